@@ -1,0 +1,47 @@
+// Per-point differential entropy of a local Gaussian (CorAl paper, Eq. 1 and Sec. III-C (1)).
+#pragma once
+
+#include "coral_introspection/core/types.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+// Running first and second moments of points centred on a query point. Centring on the
+// query keeps the sums small (no catastrophic cancellation far from the origin) and lets
+// the separate and joint neighbourhoods share work: joint = own + other.
+struct Moments {
+  double n = 0.0;
+  Vec3 sum = Vec3::Zero();   // sum of (x - p)
+  Mat3 sum2 = Mat3::Zero();  // sum of (x - p)(x - p)^T
+
+  void add(const Vec3& d) {
+    n += 1.0;
+    sum += d;
+    sum2.noalias() += d * d.transpose();
+  }
+  Moments& operator+=(const Moments& o) {
+    n += o.n;
+    sum += o.sum;
+    sum2 += o.sum2;
+    return *this;
+  }
+  // Unbiased sample covariance 1/(n-1) sum (x - mean)(x - mean)^T, the single estimator
+  // used everywhere in the package. Requires n >= 2.
+  Mat3 covariance() const;
+};
+
+// Differential entropy of N(mu, Sigma) in nats, restricted to the first `dim` (2 or 3)
+// coordinates: h = 1/2 ln((2 pi e)^N det Sigma)  (Eq. 1).
+// log det is taken from the eigenvalues of the symmetric matrix, never from log(det()).
+// epsilon > 0 is option (1) of Sec. III-C: the determinant is floored as det + epsilon, so
+// h >= 1/2 ln((2 pi e)^N epsilon) and lines / planes stay finite.
+// Returns false (h untouched) when Sigma is not finite, or is singular / ill-conditioned
+// (smallest eigenvalue <= 1e-12 * largest) and epsilon == 0.
+bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h);
+
+// Entropy of the whole point set (all points are one neighbourhood). Used by tests and
+// tools; false for fewer than dim + 1 points or a degenerate set.
+bool entropyOfPoints(const Points& pts, int dim, double epsilon, double* h);
+
+}  // namespace core
+}  // namespace coral_introspection

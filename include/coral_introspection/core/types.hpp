@@ -1,0 +1,37 @@
+// Core value types shared by every core module. ROS-free (Eigen only).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+namespace coral_introspection {
+namespace core {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Points = std::vector<Vec3, Eigen::aligned_allocator<Vec3>>;
+using Covariances = std::vector<Mat3, Eigen::aligned_allocator<Mat3>>;
+
+// One scan expressed in some frame. For 2D data z is 0 (and ignored when dimension == 2).
+struct Scan {
+  Points points;
+  // Sensor position of this scan, in the same frame as `points`. The dynamic radius of
+  // CorAl (Sec. III-C option 2) is measured from here.
+  Vec3 origin = Vec3::Zero();
+  // Optional per-point measurement covariance (radar uncertainty model); empty if unknown.
+  Covariances covariances;
+};
+
+// Applies T_dst_src to every point, the origin and the covariances (R S R^T).
+Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src);
+
+// Removes points with a NaN/Inf coordinate. Returns the number removed.
+std::size_t removeNonFinite(Scan& scan);
+
+// SE(2) pose (x, y, yaw) as an Isometry3d rotating about z.
+Eigen::Isometry3d se2(double x, double y, double yaw);
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,28 @@
+# Sourced by the project's scripts: the system python first (pyenv's lacks catkin_pkg and
+# the ROS modules), the catkin workspace outside the source tree, ROS logs out of $HOME.
+CORAL_REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export PATH="/usr/bin:/bin:/usr/sbin:/sbin:${PATH}"
+export CORAL_WS="${CORAL_WS:-${HOME}/.cache/coral_introspection/ws}"
+export ROS_HOME="${ROS_HOME:-${CORAL_WS}/ros_home}"
+export PYTHONNOUSERSITE=1
+unset PYTHONPATH PYTHONHOME
+
+# Builds (incrementally) the package and, with argument "tests", its test targets.
+coral_build() {
+  mkdir -p "${CORAL_WS}/src" "${ROS_HOME}"
+  ln -sfn "${CORAL_REPO}" "${CORAL_WS}/src/coral_introspection"
+  local jobs
+  jobs="$(nproc)"
+  (
+    cd "${CORAL_WS}"
+    catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
+    if [ "${1:-}" = "tests" ]; then
+      catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests
+    fi
+  )
+  # setup.bash reads unset variables; relax -u while sourcing it.
+  set +u
+  # shellcheck disable=SC1091
+  source "${CORAL_WS}/devel/setup.bash"
+  set -u
+}
