@@ -29,8 +29,8 @@ bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h) 
   if (!sigma.allFinite()) return false;
   double eig_min = 0.0, eig_max = 0.0, log_det = 0.0;
   if (dim == 2) {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(sigma.topLeftCorner<2, 2>(),
-                                                      Eigen::EigenvaluesOnly);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es;
+    es.computeDirect(sigma.topLeftCorner<2, 2>(), Eigen::EigenvaluesOnly);  // closed form
     const auto& ev = es.eigenvalues();  // ascending
     eig_min = ev(0);
     eig_max = ev(1);
