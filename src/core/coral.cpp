@@ -66,37 +66,56 @@ double aggregate(std::vector<double>& v, Aggregation agg) {
   return s / static_cast<double>(v.size());
 }
 
-// Scores every point of `own` against its own cloud and the other cloud.
-void scoreCloud(const Points& own, const Vec3& origin, const NeighbourGrid& own_grid,
-                const NeighbourGrid& other_grid, const CoralConfig& cfg,
-                std::vector<PointEntropy>& out, std::vector<double>& mme_terms,
-                std::size_t& num_overlap) {
-  const int dim = cfg.dimension;
-  for (const Vec3& p : own) {
-    PointEntropy pe;
-    const Vec3 rel = p - origin;
-    const double d = dim == 2 ? rel.head<2>().norm() : rel.norm();
-    pe.radius = static_cast<float>(dynamicRadius(cfg, d));
-    Moments m_own, m_other;
-    own_grid.forEachWithin(p, pe.radius, [&](const Vec3& x, uint32_t) { m_own.add(x - p); });
-    other_grid.forEachWithin(p, pe.radius, [&](const Vec3& x, uint32_t) { m_other.add(x - p); });
-    Moments m_joint = m_own;
-    m_joint += m_other;
-    double h_joint = 0.0;
-    const bool joint_ok = m_joint.n >= cfg.min_neighbours &&
-                          differentialEntropy(m_joint.covariance(), dim, cfg.epsilon, &h_joint);
-    if (joint_ok) mme_terms.push_back(h_joint);
-    // A point counts only with enough neighbours in its own and in the other cloud.
-    if (m_own.n >= cfg.min_neighbours && m_other.n >= cfg.min_neighbours_other) {
+// Adds the points of [begin, end) within sqrt(r2) of p to m, centred on p.
+template <int Dim>
+void addWithin(const Vec3* begin, const Vec3* end, const Vec3& p, double r2, MomentsN<Dim>& m) {
+  for (const Vec3* x = begin; x != end; ++x) {
+    const typename MomentsN<Dim>::V d = (*x - p).template head<Dim>();
+    if (d.squaredNorm() <= r2) m.add(d);
+  }
+}
+
+// Scores every point of both clouds against its own cloud and the other cloud. The grid
+// holds both clouds; cells are processed one at a time so the 3^N neighbour cells are
+// looked up once per cell for all of its points, of a and of b.
+template <int Dim>
+void scoreClouds(const NeighbourGrid& grid, std::size_t num_a, const Vec3& origin_a,
+                 const Vec3& origin_b, const CoralConfig& cfg, std::vector<PointEntropy>& out,
+                 std::vector<double>& mme_terms, std::size_t& num_overlap) {
+  std::vector<NeighbourGrid::Range> ranges;
+  for (std::size_t c = 0; c < grid.numCells(); ++c) {
+    grid.neighbourRanges(c, 1, &ranges);  // every radius <= cell size
+    const NeighbourGrid::Range pts = grid.cellPoints(c);
+    const uint32_t* idx = grid.cellIndices(c);
+    for (const Vec3* p = pts.begin; p != pts.end; ++p, ++idx) {
+      const bool in_a = *idx < num_a;
+      PointEntropy& pe = out[*idx];
+      const double d = (*p - (in_a ? origin_a : origin_b)).template head<Dim>().norm();
+      const double radius = dynamicRadius(cfg, d);
+      const double r2 = radius * radius;
+      pe.radius = static_cast<float>(radius);
+      MomentsN<Dim> m_own, m_joint;
+      for (const NeighbourGrid::Range& rg : ranges) {
+        addWithin(in_a ? rg.begin : rg.mid, in_a ? rg.mid : rg.end, *p, r2, m_own);
+        addWithin(in_a ? rg.mid : rg.begin, in_a ? rg.end : rg.mid, *p, r2, m_joint);
+      }
+      const double n_other = m_joint.n;
+      m_joint += m_own;
+      double h_joint = 0.0;
+      const bool joint_ok =
+          m_joint.n >= cfg.min_neighbours &&
+          differentialEntropy(m_joint.covariance(), Dim, cfg.epsilon, &h_joint);
+      if (joint_ok) mme_terms.push_back(h_joint);
+      // A point counts only with enough neighbours in its own and in the other cloud.
+      if (m_own.n < cfg.min_neighbours || n_other < cfg.min_neighbours_other) continue;
       ++num_overlap;
       double h_sep = 0.0;
-      if (joint_ok && differentialEntropy(m_own.covariance(), dim, cfg.epsilon, &h_sep)) {
+      if (joint_ok && differentialEntropy(m_own.covariance(), Dim, cfg.epsilon, &h_sep)) {
         pe.h_sep = static_cast<float>(h_sep);
         pe.h_joint = static_cast<float>(h_joint);
         pe.valid = true;
       }
     }
-    out.push_back(pe);
   }
 }
 
@@ -108,15 +127,13 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   const Points pa = finitePoints(a.points), pb = finitePoints(b.points);
   res.num_points_a = pa.size();
   res.num_points_b = pb.size();
-  const double cell = cfg.maxRadius();
-  const NeighbourGrid grid_a(pa, cell, cfg.dimension), grid_b(pb, cell, cfg.dimension);
+  const NeighbourGrid grid(pa, pb, cfg.maxRadius(), cfg.dimension);
 
-  std::vector<PointEntropy> per_point;
-  per_point.reserve(pa.size() + pb.size());
+  std::vector<PointEntropy> per_point(pa.size() + pb.size());
   std::vector<double> mme_terms;
-  mme_terms.reserve(pa.size() + pb.size());
-  scoreCloud(pa, a.origin, grid_a, grid_b, cfg, per_point, mme_terms, res.num_overlap);
-  scoreCloud(pb, b.origin, grid_b, grid_a, cfg, per_point, mme_terms, res.num_overlap);
+  mme_terms.reserve(per_point.size());
+  auto score = cfg.dimension == 2 ? scoreClouds<2> : scoreClouds<3>;
+  score(grid, pa.size(), a.origin, b.origin, cfg, per_point, mme_terms, res.num_overlap);
 
   // Sec. III-C (3): drop the E_reject fraction of valid points with the lowest h_sep.
   std::vector<std::size_t> valid_idx;

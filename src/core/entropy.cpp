@@ -18,13 +18,6 @@ double logAddExp(double a, double b) {
 }
 }  // namespace
 
-Mat3 Moments::covariance() const {
-  const Vec3 mean = sum / n;
-  // sum (x-m)(x-m)^T = sum2 - n m m^T; the 1/(n-1) factor is floating point (the
-  // reference code's integer n/(n-1) silently evaluated to 1).
-  return (sum2 - n * mean * mean.transpose()) / (n - 1.0);
-}
-
 bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h) {
   if (!sigma.allFinite()) return false;
   double eig_min = 0.0, eig_max = 0.0, log_det = 0.0;

@@ -50,3 +50,36 @@ TEST(NeighbourGrid, EmptyCloud) {
   grid.forEachWithin(Vec3::Zero(), 10.0, [&](const Vec3&, uint32_t) { ++n; });
   EXPECT_EQ(n, 0);
 }
+
+TEST(NeighbourGrid, TwoCloudCellsSplitIntoAThenB) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  Points a, b;
+  for (int i = 0; i < 500; ++i) a.emplace_back(u(rng), u(rng), 0.0);
+  for (int i = 0; i < 400; ++i) b.emplace_back(u(rng), u(rng), 0.0);
+  const NeighbourGrid grid(a, b, 0.7, 2);
+  ASSERT_EQ(grid.size(), 900u);
+  std::size_t seen_a = 0, seen_b = 0;
+  std::vector<NeighbourGrid::Range> ranges;
+  for (std::size_t c = 0; c < grid.numCells(); ++c) {
+    const NeighbourGrid::Range r = grid.cellPoints(c);
+    const uint32_t* idx = grid.cellIndices(c);
+    for (const Vec3* p = r.begin; p != r.end; ++p, ++idx) {
+      const bool is_a = p < r.mid;
+      EXPECT_EQ(is_a, *idx < 500u);
+      EXPECT_EQ(*p, is_a ? a[*idx] : b[*idx - 500]);
+      (is_a ? seen_a : seen_b)++;
+    }
+    // The 3x3 neighbour ranges hold every point within one cell size of this cell's points.
+    grid.neighbourRanges(c, 1, &ranges);
+    std::size_t in_ranges = 0;
+    for (const auto& rg : ranges)
+      for (const Vec3* p = rg.begin; p != rg.end; ++p) in_ranges += (*p - *r.begin).norm() <= 0.7;
+    std::size_t brute_count = 0;
+    for (const Vec3& p : a) brute_count += (p - *r.begin).norm() <= 0.7;
+    for (const Vec3& p : b) brute_count += (p - *r.begin).norm() <= 0.7;
+    EXPECT_EQ(in_ranges, brute_count);
+  }
+  EXPECT_EQ(seen_a, 500u);
+  EXPECT_EQ(seen_b, 400u);
+}

@@ -6,29 +6,39 @@
 namespace coral_introspection {
 namespace core {
 
-// Running first and second moments of points centred on a query point. Centring on the
-// query keeps the sums small (no catastrophic cancellation far from the origin) and lets
-// the separate and joint neighbourhoods share work: joint = own + other.
-struct Moments {
+// Running first and second moments of points centred on a query point, in Dim (2 or 3)
+// dimensions. Centring on the query keeps the sums small (no catastrophic cancellation far
+// from the origin) and lets the separate and joint neighbourhoods share work:
+// joint = own + other. The 2D form accumulates 3 products instead of 9.
+template <int Dim>
+struct MomentsN {
+  using V = Eigen::Matrix<double, Dim, 1>;
   double n = 0.0;
-  Vec3 sum = Vec3::Zero();   // sum of (x - p)
-  Mat3 sum2 = Mat3::Zero();  // sum of (x - p)(x - p)^T
+  V sum = V::Zero();  // sum of (x - p)
+  Eigen::Matrix<double, Dim, Dim> sum2 = Eigen::Matrix<double, Dim, Dim>::Zero();
 
-  void add(const Vec3& d) {
+  void add(const V& d) {
     n += 1.0;
     sum += d;
     sum2.noalias() += d * d.transpose();
   }
-  Moments& operator+=(const Moments& o) {
+  MomentsN& operator+=(const MomentsN& o) {
     n += o.n;
     sum += o.sum;
     sum2 += o.sum2;
     return *this;
   }
   // Unbiased sample covariance 1/(n-1) sum (x - mean)(x - mean)^T, the single estimator
-  // used everywhere in the package. Requires n >= 2.
-  Mat3 covariance() const;
+  // used everywhere in the package (the reference code's integer n/(n-1) silently
+  // evaluated to 1). Requires n >= 2. Embedded in a 3x3 (zeros) for the 2D form.
+  Mat3 covariance() const {
+    const V mean = sum / n;
+    Mat3 c = Mat3::Zero();
+    c.template topLeftCorner<Dim, Dim>() = (sum2 - n * mean * mean.transpose()) / (n - 1.0);
+    return c;
+  }
 };
+using Moments = MomentsN<3>;
 
 // Differential entropy of N(mu, Sigma) in nats, restricted to the first `dim` (2 or 3)
 // coordinates: h = 1/2 ln((2 pi e)^N det Sigma)  (Eq. 1).

@@ -15,7 +15,12 @@ namespace core {
 class NeighbourGrid {
  public:
   // cell_size > 0 [m]; dim 2 ignores z. Non-finite points must be removed beforehand.
-  NeighbourGrid(const Points& points, double cell_size, int dim);
+  NeighbourGrid(const Points& points, double cell_size, int dim)
+      : NeighbourGrid(points, Points(), cell_size, dim) {}
+  // One grid over two clouds: within every cell the points of `a` come first, then those of
+  // `b`, so one cell lookup serves queries against both (CorAl's own and other clouds).
+  // Original indices: i for a[i], a.size() + i for b[i].
+  NeighbourGrid(const Points& a, const Points& b, double cell_size, int dim);
 
   // Calls f(point, original_index) for every point with |point - q| <= radius.
   template <class F>
@@ -42,11 +47,29 @@ class NeighbourGrid {
 
   std::size_t size() const { return points_.size(); }
 
+  // Cell-batched access for queries of every point of a grid (CorAl): the neighbour cells
+  // are looked up once per cell instead of once per point.
+  struct Range {
+    const Vec3* begin;
+    const Vec3* mid;  // [begin, mid): points of cloud a, [mid, end): points of cloud b
+    const Vec3* end;
+  };
+  std::size_t numCells() const { return cells_.size(); }
+  // Points of cell c (contiguous) and their original indices.
+  Range cellPoints(std::size_t c) const { return range(cells_[c]); }
+  const uint32_t* cellIndices(std::size_t c) const { return index_.data() + cells_[c].begin; }
+  // Non-empty cells within `reach` cells of cell c (including c itself).
+  void neighbourRanges(std::size_t c, int reach, std::vector<Range>* out) const;
+
  private:
   struct Cell {
     uint64_t key;
-    uint32_t begin, end;
+    uint32_t begin, mid, end;
+    int64_t x, y, z;  // integer cell coordinates
   };
+  Range range(const Cell& c) const {
+    return {points_.data() + c.begin, points_.data() + c.mid, points_.data() + c.end};
+  }
   int64_t cellCoord(double v) const { return static_cast<int64_t>(std::floor(v * inv_cell_)); }
   static uint64_t key(int64_t x, int64_t y, int64_t z) {
     // 21 bits per axis; cells that wrap onto one key merely share a bucket (distance is
