@@ -1,20 +1,19 @@
 #include "coral_introspection/core/classifier.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <cmath>
-#include <sstream>
 
 namespace coral_introspection {
 namespace core {
 
 std::string ClassifierConfig::validate() const {
-  std::ostringstream e;
-  if (!(std::isfinite(beta0) && std::isfinite(beta1) && std::isfinite(beta2)))
-    e << "beta0..beta2 must be finite";
-  if (!(threshold > 0.0 && threshold < 1.0)) {
-    if (!e.str().empty()) e << "; ";
-    e << "threshold must be in (0, 1) (got " << threshold << ")";
-  }
-  return e.str();
+  return Problems()
+      .require(std::isfinite(beta0), "beta0", "finite", beta0)
+      .require(std::isfinite(beta1), "beta1", "finite", beta1)
+      .require(std::isfinite(beta2), "beta2", "finite", beta2)
+      .require(threshold > 0.0 && threshold < 1.0, "threshold", "in (0, 1)", threshold)
+      .str();
 }
 
 double sigmoid(double z) {

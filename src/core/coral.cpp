@@ -3,35 +3,29 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include "coral_introspection/core/entropy.hpp"
 #include "coral_introspection/core/neighbour_grid.hpp"
+#include "coral_introspection/core/validation.hpp"
 
 namespace coral_introspection {
 namespace core {
 
 std::string CoralConfig::validate() const {
-  std::ostringstream e;
-  if (dimension != 2 && dimension != 3) e << "dimension must be 2 or 3 (got " << dimension << "); ";
-  if (!(radius > 0.0)) e << "radius must be > 0 m (got " << radius << "); ";
+  Problems p;
+  p.require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
+      .require(radius > 0.0, "radius", "> 0 m", radius);
   if (dynamic_radius) {
-    if (!(r_min > 0.0)) e << "r_min must be > 0 m (got " << r_min << "); ";
-    if (!(r_min <= r_max)) e << "r_min must be <= r_max (got " << r_min << " > " << r_max << "); ";
-    if (!(alpha_deg > 0.0 && alpha_deg < 90.0))
-      e << "alpha_deg must be in (0, 90) deg (got " << alpha_deg << "); ";
+    p.require(r_min > 0.0, "r_min", "> 0 m", r_min)
+        .require(r_min <= r_max, "r_min", "<= r_max", r_min)
+        .require(alpha_deg > 0.0 && alpha_deg < 90.0, "alpha_deg", "in (0, 90) deg", alpha_deg);
   }
-  if (!(epsilon >= 0.0)) e << "epsilon must be >= 0 (got " << epsilon << "); ";
-  if (!(e_reject >= 0.0 && e_reject < 1.0))
-    e << "e_reject must be in [0, 1) (got " << e_reject << "); ";
-  if (min_neighbours < 2) e << "min_neighbours must be >= 2 (got " << min_neighbours << "); ";
-  if (min_neighbours_other < 1)
-    e << "min_neighbours_other must be >= 1 (got " << min_neighbours_other << "); ";
-  if (!(min_overlap >= 0.0 && min_overlap <= 1.0))
-    e << "min_overlap must be in [0, 1] (got " << min_overlap << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return p.require(epsilon >= 0.0, "epsilon", ">= 0", epsilon)
+      .require(e_reject >= 0.0 && e_reject < 1.0, "e_reject", "in [0, 1)", e_reject)
+      .require(min_neighbours >= 2, "min_neighbours", ">= 2", min_neighbours)
+      .require(min_neighbours_other >= 1, "min_neighbours_other", ">= 1", min_neighbours_other)
+      .require(min_overlap >= 0.0 && min_overlap <= 1.0, "min_overlap", "in [0, 1]", min_overlap)
+      .str();
 }
 
 double dynamicRadius(const CoralConfig& cfg, double distance) {

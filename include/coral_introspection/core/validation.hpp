@@ -1,0 +1,37 @@
+// Shared helpers for config validation and error reporting in the core (no exceptions:
+// everything a nodelet callback calls reports errors by value).
+#pragma once
+
+#include <sstream>
+#include <string>
+
+namespace coral_introspection {
+namespace core {
+
+// Collects "field must be RULE (got VALUE)" messages; str() joins them with "; ".
+class Problems {
+ public:
+  template <class T>
+  Problems& require(bool ok, const char* field, const char* rule, const T& value) {
+    if (!ok) {
+      if (!msg_.empty()) msg_ += "; ";
+      std::ostringstream s;
+      s << field << " must be " << rule << " (got " << value << ")";
+      msg_ += s.str();
+    }
+    return *this;
+  }
+  const std::string& str() const { return msg_; }
+
+ private:
+  std::string msg_;
+};
+
+// Stores msg in *error (if given) and returns false: `return fail(error, "...");`.
+inline bool fail(std::string* error, const std::string& msg) {
+  if (error) *error = msg;
+  return false;
+}
+
+}  // namespace core
+}  // namespace coral_introspection
