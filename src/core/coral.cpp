@@ -88,32 +88,53 @@ void scoreClouds(const NeighbourGrid& grid, std::size_t num_a, const Vec3& origi
       const double radius = dynamicRadius(cfg, d);
       const double r2 = radius * radius;
       pe.radius = static_cast<float>(radius);
-      MomentsN<Dim> m_own, m_joint;
+      MomentsN<Dim> m_own, m_other;
       for (const NeighbourGrid::Range& rg : ranges) {
         addWithin(in_a ? rg.begin : rg.mid, in_a ? rg.mid : rg.end, *p, r2, m_own);
-        addWithin(in_a ? rg.mid : rg.begin, in_a ? rg.end : rg.mid, *p, r2, m_joint);
+        addWithin(in_a ? rg.mid : rg.begin, in_a ? rg.end : rg.mid, *p, r2, m_other);
       }
-      const double n_other = m_joint.n;
-      m_joint += m_own;
-      double h_joint = 0.0;
-      const bool joint_ok =
-          m_joint.n >= cfg.min_neighbours &&
-          differentialEntropy(m_joint.covariance(), Dim, cfg.epsilon, &h_joint);
-      if (joint_ok) mme_terms.push_back(h_joint);
-      // A point counts only with enough neighbours in its own and in the other cloud.
-      if (m_own.n < cfg.min_neighbours || n_other < cfg.min_neighbours_other) continue;
-      ++num_overlap;
-      double h_sep = 0.0;
-      if (joint_ok && differentialEntropy(m_own.covariance(), Dim, cfg.epsilon, &h_sep)) {
-        pe.h_sep = static_cast<float>(h_sep);
-        pe.h_joint = static_cast<float>(h_joint);
-        pe.valid = true;
-      }
+      scorePoint(m_own, m_other, cfg, &pe, &mme_terms, &num_overlap);
     }
   }
 }
 
 }  // namespace
+
+void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point,
+                   std::vector<double> mme_terms, CoralResult* res) {
+  // Sec. III-C (3): drop the E_reject fraction of valid points with the lowest h_sep.
+  std::vector<std::size_t> valid_idx;
+  for (std::size_t i = 0; i < per_point.size(); ++i)
+    if (per_point[i].valid) valid_idx.push_back(i);
+  const auto n_reject =
+      static_cast<std::size_t>(std::floor(cfg.e_reject * static_cast<double>(valid_idx.size())));
+  if (n_reject > 0) {
+    std::nth_element(valid_idx.begin(), valid_idx.begin() + n_reject, valid_idx.end(),
+                     [&](std::size_t i, std::size_t j) {
+                       return per_point[i].h_sep < per_point[j].h_sep;
+                     });
+    for (std::size_t k = 0; k < n_reject; ++k) per_point[valid_idx[k]].valid = false;
+    valid_idx.erase(valid_idx.begin(), valid_idx.begin() + n_reject);
+  }
+  res->num_rejected = n_reject;
+
+  std::vector<double> hs, hj;
+  hs.reserve(valid_idx.size());
+  hj.reserve(valid_idx.size());
+  for (std::size_t i : valid_idx) {
+    hs.push_back(per_point[i].h_sep);
+    hj.push_back(per_point[i].h_joint);
+  }
+  res->num_valid = valid_idx.size();
+  res->h_sep = aggregate(hs, cfg.aggregation);    // Eq. 4 (or its median)
+  res->h_joint = aggregate(hj, cfg.aggregation);  // Eq. 3 (or its median)
+  res->quality = res->h_joint - res->h_sep;         // Eq. 5
+  res->mme = aggregate(mme_terms, Aggregation::kMean);
+  const std::size_t total = res->num_points_a + res->num_points_b;
+  res->overlap = total > 0 ? static_cast<double>(res->num_overlap) / total : 0.0;
+  res->valid = res->num_valid > 0 && res->overlap >= cfg.min_overlap;
+  if (cfg.per_point) res->per_point = std::move(per_point);
+}
 
 CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -129,38 +150,7 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   auto score = cfg.dimension == 2 ? scoreClouds<2> : scoreClouds<3>;
   score(grid, pa.size(), a.origin, b.origin, cfg, per_point, mme_terms, res.num_overlap);
 
-  // Sec. III-C (3): drop the E_reject fraction of valid points with the lowest h_sep.
-  std::vector<std::size_t> valid_idx;
-  for (std::size_t i = 0; i < per_point.size(); ++i)
-    if (per_point[i].valid) valid_idx.push_back(i);
-  const auto n_reject =
-      static_cast<std::size_t>(std::floor(cfg.e_reject * static_cast<double>(valid_idx.size())));
-  if (n_reject > 0) {
-    std::nth_element(valid_idx.begin(), valid_idx.begin() + n_reject, valid_idx.end(),
-                     [&](std::size_t i, std::size_t j) {
-                       return per_point[i].h_sep < per_point[j].h_sep;
-                     });
-    for (std::size_t k = 0; k < n_reject; ++k) per_point[valid_idx[k]].valid = false;
-    valid_idx.erase(valid_idx.begin(), valid_idx.begin() + n_reject);
-  }
-  res.num_rejected = n_reject;
-
-  std::vector<double> hs, hj;
-  hs.reserve(valid_idx.size());
-  hj.reserve(valid_idx.size());
-  for (std::size_t i : valid_idx) {
-    hs.push_back(per_point[i].h_sep);
-    hj.push_back(per_point[i].h_joint);
-  }
-  res.num_valid = valid_idx.size();
-  res.h_sep = aggregate(hs, cfg.aggregation);    // Eq. 4 (or its median)
-  res.h_joint = aggregate(hj, cfg.aggregation);  // Eq. 3 (or its median)
-  res.quality = res.h_joint - res.h_sep;         // Eq. 5
-  res.mme = aggregate(mme_terms, Aggregation::kMean);
-  const std::size_t total = pa.size() + pb.size();
-  res.overlap = total > 0 ? static_cast<double>(res.num_overlap) / total : 0.0;
-  res.valid = res.num_valid > 0 && res.overlap >= cfg.min_overlap;
-  if (cfg.per_point) res.per_point = std::move(per_point);
+  finalizeCoral(cfg, std::move(per_point), std::move(mme_terms), &res);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

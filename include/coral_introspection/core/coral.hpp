@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/core/entropy.hpp"
 #include "coral_introspection/core/types.hpp"
 
 namespace coral_introspection {
@@ -67,6 +68,37 @@ double dynamicRadius(const CoralConfig& cfg, double distance);
 // points are ignored. Never throws on bad data; an unusable pair gives valid == false
 // with finite zero aggregates. Precondition: cfg.validate() is empty.
 CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg);
+
+// Building blocks shared by CorAl variants whose neighbourhoods differ (e.g. the
+// covariance-shaped one in coral_uncertainty.hpp).
+//
+// Eq. 1 and 6 for one point from the moments of its neighbours in its own cloud and in the
+// other cloud (both centred on the point). Every point with enough joint neighbours feeds
+// the MME; it counts as overlapping only with min_neighbours in its own and
+// min_neighbours_other in the other cloud, and is valid when both entropies are finite.
+template <class M>
+void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe,
+                std::vector<double>* mme_terms, std::size_t* num_overlap) {
+  M joint = own;
+  joint += other;
+  double h_joint = 0.0, h_sep = 0.0;
+  const bool joint_ok = joint.n >= cfg.min_neighbours &&
+                        differentialEntropy(joint.covariance(), cfg.dimension, cfg.epsilon, &h_joint);
+  if (joint_ok) mme_terms->push_back(h_joint);
+  if (own.n < cfg.min_neighbours || other.n < cfg.min_neighbours_other) return;
+  ++*num_overlap;
+  if (joint_ok && differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep)) {
+    pe->h_sep = static_cast<float>(h_sep);
+    pe->h_joint = static_cast<float>(h_joint);
+    pe->valid = true;
+  }
+}
+
+// E_reject (Sec. III-C (3)), H_sep / H_joint / Q (Eq. 3-5, mean or median), MME, overlap
+// and validity from the per-point entropies (scan a's points first). Expects
+// res->num_points_a/b and res->num_overlap set; fills the rest except `seconds`.
+void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point,
+                   std::vector<double> mme_terms, CoralResult* res);
 
 }  // namespace core
 }  // namespace coral_introspection

@@ -1,0 +1,77 @@
+#include "coral_introspection/core/perturbation.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "coral_introspection/core/types.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+PerturbationConfig PerturbationConfig::radarProtocol() { return PerturbationConfig(); }
+
+PerturbationConfig PerturbationConfig::lidarProtocol() {
+  PerturbationConfig c;
+  c.translations = {0.1};  // Sec. IV: e_d = 0.1 m ...
+  c.combined_yaw = 0.1;    // ... together with e_theta = 0.1 rad
+  return c;
+}
+
+std::string PerturbationConfig::validate() const {
+  std::ostringstream e;
+  if (translations.empty() && rotations.empty())
+    e << "translations and rotations are both empty: no misaligned samples; ";
+  for (double t : translations)
+    if (!(t > 0.0 && std::isfinite(t))) e << "translations must be > 0 m (got " << t << "); ";
+  for (double r : rotations)
+    if (!(r > 0.0 && r < M_PI)) e << "rotations must be in (0, pi) rad (got " << r << "); ";
+  if (!(combined_yaw >= 0.0 && combined_yaw < M_PI))
+    e << "combined_yaw must be in [0, pi) rad (got " << combined_yaw << "); ";
+  std::string s = e.str();
+  if (!s.empty()) s.resize(s.size() - 2);
+  return s;
+}
+
+std::string groupLabel(double translation_m, double yaw_rad) {
+  std::ostringstream s;
+  if (translation_m > 0.0) s << translation_m << " m";
+  if (translation_m > 0.0 && yaw_rad > 0.0) s << " + ";
+  if (yaw_rad > 0.0) s << yaw_rad << " rad";
+  return s.str();
+}
+
+std::vector<Perturbation> makePerturbations(const PerturbationConfig& cfg) {
+  std::vector<Perturbation> out;
+  struct Dir { const char* name; double x, y, yaw_sign; };
+  // Longitudinal (forward/backward) and lateral (left/right) offsets of Sec. V.
+  const Dir dirs[4] = {{"forward", 1, 0, 1}, {"backward", -1, 0, -1},
+                       {"left", 0, 1, 1}, {"right", 0, -1, -1}};
+  for (double m : cfg.translations)
+    for (const Dir& d : dirs) {
+      Perturbation p;
+      p.name = d.name;
+      p.group = groupLabel(m, cfg.combined_yaw);
+      p.dx = d.x * m;
+      p.dy = d.y * m;
+      p.dyaw = d.yaw_sign * cfg.combined_yaw;
+      p.delta = se2(p.dx, p.dy, p.dyaw);
+      out.push_back(p);
+    }
+  for (double r : cfg.rotations)
+    for (double sign : {1.0, -1.0}) {
+      Perturbation p;
+      p.name = sign > 0 ? "yaw+" : "yaw-";
+      p.group = groupLabel(0.0, r);
+      p.dyaw = sign * r;
+      p.delta = se2(0.0, 0.0, p.dyaw);
+      out.push_back(p);
+    }
+  return out;
+}
+
+Eigen::Isometry3d perturb(const Eigen::Isometry3d& T_a_b, const Perturbation& p) {
+  return T_a_b * p.delta;  // offset applied in the sensor frame of the later scan b
+}
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,390 @@
+// Demo sequence generator for CoralNodelet: publishes a sequence of scans with their
+// odometry pose as TF (fixed frame -> sensor at the scan stamp), injects odometry errors
+// into part of it, listens to the nodelet's `alignment` verdicts and prints how many
+// injected errors were flagged and how many clean pairs were falsely flagged, then exits.
+//
+// Sources (~mode):
+//   lidar_3d / lidar_2d: a simulated drive through core::SyntheticScene::structuredYard()
+//     (core::simulateScan, 16 rings or one ring), PointCloud2 on `scan`, frame `lidar`.
+//   oxford: real radar. The Oxford Radar RobotCar folder ~oxford_folder is converted with
+//     writeOxfordBag (what the oxford_to_bag tool runs), or an existing ~bag is used; its
+//     /radar/polar images are replayed on `polar_image` with its ground-truth TF.
+//
+// Error model ("odometry that jumped"): the published pose is T_fixed_sensor = E_i * T_true,
+// E_i a translation perpendicular to the heading. A step at scan k adds +-magnitude to E
+// for every scan >= k (signs alternate so the drift stays bounded): only the pair that
+// straddles k is inconsistent, later pairs are consistent again. A spike at scan j shifts
+// scan j alone: pairs (j-1, j) and (j, j+1) are inconsistent. A pair counts as an
+// injected error when the relative pose between its two scans differs from the truth.
+//
+// Lock step: after scan i the node waits (up to ~result_timeout) for the verdict whose
+// stamp_b is scan i's stamp, so results do not depend on CPU load. Stamps advance by the
+// sequence's own timing whatever the wall time (holds for screenshots included).
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <unistd.h>
+#include <algorithm>
+#include <condition_variable>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/AlignmentQuality.h"
+#include "coral_introspection/core/synthetic.hpp"
+#include "coral_introspection/ros/conversions.hpp"
+#include "coral_introspection/ros/oxford_bag_writer.hpp"
+
+namespace core = coral_introspection::core;
+namespace ros_adapters = coral_introspection::ros_adapters;
+using coral_introspection::AlignmentQuality;
+using Poses = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
+using Offsets = std::vector<core::Vec3, Eigen::aligned_allocator<core::Vec3>>;
+
+namespace {
+
+struct DemoConfig {
+  std::string mode = "lidar_3d";           // lidar_3d | lidar_2d | oxford
+  int num_scans = 40;                      // scans simulated (lidar modes)
+  double rate = 5.0;                       // [Hz] simulated scan rate / max publishing rate
+  double step_length = 0.5;                // [m] travelled between simulated scans
+  double error_magnitude = 0.5;            // [m] lateral odometry error per step / spike
+  std::string error_pattern = "both";      // steps | spikes | both | none
+  std::vector<int> step_scans = {10, 20};  // scan index from which a step holds
+  std::vector<int> spike_scans = {30};     // single scans shifted
+  double result_timeout = 3.0;             // [s] wait for each verdict
+  double start_timeout = 60.0;             // [s] wait for the nodelet to connect
+  double hold_misaligned = 0.0;            // [s] pause after the first flagged injected pair (rviz)
+  double start_delay = 0.0;  // [s] extra wait after the nodelet connected (rviz start)
+  int seed = 1;
+  std::string fixed_frame = "odom";
+  std::string sensor_frame = "lidar";  // lidar modes (oxford: the bag's image frame)
+  std::string oxford_folder;           // oxford mode: dataset folder, converted to a bag first
+  std::string bag;                     // oxford mode: existing bag (oxford_to_bag output)
+  std::string image_topic = "/radar/polar";  // oxford mode: image topic in the bag
+
+  std::string validate() const {
+    std::ostringstream e;
+    if (mode != "lidar_3d" && mode != "lidar_2d" && mode != "oxford")
+      e << "~mode '" << mode << "' must be lidar_3d, lidar_2d or oxford. ";
+    if (mode == "oxford" && oxford_folder.empty() && bag.empty())
+      e << "~mode oxford needs ~oxford_folder or ~bag. ";
+    if (num_scans < 2 || num_scans > 10000)
+      e << "~num_scans " << num_scans << " not in [2, 10000]. ";
+    if (!(rate > 0.0 && rate <= 100.0)) e << "~rate " << rate << " Hz not in (0, 100]. ";
+    if (!(step_length >= 0.0 && step_length <= 2.0))
+      e << "~step_length " << step_length << " m not in [0, 2]. ";
+    if (!(error_magnitude >= 0.0 && error_magnitude <= 5.0))
+      e << "~error_magnitude " << error_magnitude << " m not in [0, 5]. ";
+    if (error_pattern != "steps" && error_pattern != "spikes" && error_pattern != "both" &&
+        error_pattern != "none")
+      e << "~error_pattern '" << error_pattern << "' must be steps, spikes, both or none. ";
+    if (!(result_timeout > 0.0)) e << "~result_timeout must be > 0. ";
+    return e.str();
+  }
+};
+
+std::vector<int> parseIndices(const std::string& s) {
+  std::vector<int> out;
+  std::stringstream ss(s);
+  std::string tok;
+  while (std::getline(ss, tok, ',')) {
+    try {
+      if (tok.find_first_not_of(" ") != std::string::npos) out.push_back(std::stoi(tok));
+    } catch (const std::exception&) {
+      ROS_WARN("coral_sequence_demo: ignoring scan index '%s'", tok.c_str());
+    }
+  }
+  return out;
+}
+
+DemoConfig loadConfig(ros::NodeHandle& pnh) {
+  DemoConfig c;
+  pnh.param("mode", c.mode, c.mode);
+  pnh.param("num_scans", c.num_scans, c.num_scans);
+  pnh.param("rate", c.rate, c.rate);
+  pnh.param("step_length", c.step_length, c.step_length);
+  pnh.param("error_magnitude", c.error_magnitude, c.error_magnitude);
+  pnh.param("error_pattern", c.error_pattern, c.error_pattern);
+  std::string steps, spikes;
+  // Comma-separated lists so that roslaunch args can carry them ("10,20").
+  if (pnh.getParam("step_scans", steps)) c.step_scans = parseIndices(steps);
+  if (pnh.getParam("spike_scans", spikes)) c.spike_scans = parseIndices(spikes);
+  pnh.param("result_timeout", c.result_timeout, c.result_timeout);
+  pnh.param("start_timeout", c.start_timeout, c.start_timeout);
+  pnh.param("hold_misaligned", c.hold_misaligned, c.hold_misaligned);
+  pnh.param("start_delay", c.start_delay, c.start_delay);
+  pnh.param("seed", c.seed, c.seed);
+  pnh.param("fixed_frame", c.fixed_frame, c.fixed_frame);
+  pnh.param("sensor_frame", c.sensor_frame, c.sensor_frame);
+  pnh.param("oxford_folder", c.oxford_folder, c.oxford_folder);
+  pnh.param("bag", c.bag, c.bag);
+  pnh.param("image_topic", c.image_topic, c.image_topic);
+  return c;
+}
+
+// The scans to replay with their true poses and timing.
+struct Sequence {
+  Poses T_true;                                  // T_fixed_sensor without error
+  std::vector<double> times;                     // [s] since the first scan
+  std::vector<sensor_msgs::PointCloud2> clouds;  // lidar modes
+  std::vector<sensor_msgs::Image> images;        // oxford mode
+  std::string frame;
+  std::size_t size() const { return T_true.size(); }
+};
+
+// Simulated drive: gently weaving along the yard's long axis, the sensor 1.5 m above the
+// floor, heading along the path tangent.
+Sequence simulateSequence(const DemoConfig& c) {
+  core::LidarModel model;
+  if (c.mode == "lidar_2d") model.rings = 1;
+  const core::SyntheticScene scene = core::SyntheticScene::structuredYard();
+  std::mt19937 rng(static_cast<unsigned>(c.seed));
+  Sequence seq;
+  seq.frame = c.sensor_frame;
+  std_msgs::Header header;
+  header.frame_id = c.sensor_frame;  // stamps are set when published
+  for (int i = 0; i < c.num_scans; ++i) {
+    const double s = i * c.step_length, w = 2.0 * M_PI / 20.0;
+    const Eigen::Isometry3d T =
+        core::se2(-10.0 + s, std::sin(w * s), std::atan(w * std::cos(w * s)));
+    seq.T_true.push_back(T);
+    seq.times.push_back(i / c.rate);
+    seq.clouds.push_back(
+        ros_adapters::pointsToCloud(core::simulateScan(scene, T, model, rng), header));
+  }
+  return seq;
+}
+
+// Oxford bag: images of image_topic and the TF (any parent) -> image frame at each stamp.
+bool readOxfordBag(const DemoConfig& c, Sequence* seq, std::string* error) {
+  std::string path = c.bag;
+  if (path.empty()) {
+    path = "/tmp/coral_sequence_demo_" + std::to_string(getpid()) + ".bag";
+    ros_adapters::OxfordBagOptions opt;
+    opt.image_topic = c.image_topic;
+    ros_adapters::OxfordBagSummary summary;
+    if (!ros_adapters::writeOxfordBag(c.oxford_folder, path, opt, &summary, error)) return false;
+    std::printf("[coral_sequence_demo] converted %s -> %s (%zu images, %zu TF)\n",
+                c.oxford_folder.c_str(), path.c_str(), summary.images, summary.transforms);
+  }
+  std::map<std::pair<std::string, uint64_t>, Eigen::Isometry3d> poses;
+  try {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+      if (m.getTopic() == c.image_topic) {
+        if (auto img = m.instantiate<sensor_msgs::Image>()) seq->images.push_back(*img);
+      } else if (auto tf = m.instantiate<tf2_msgs::TFMessage>()) {
+        for (const auto& t : tf->transforms) {
+          Eigen::Isometry3d T;
+          if (ros_adapters::toEigen(t.transform, &T, error))
+            poses[{t.child_frame_id, t.header.stamp.toNSec()}] = T;
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    *error = "reading " + path + ": " + e.what();
+    return false;
+  }
+  if (c.bag.empty()) std::remove(path.c_str());
+  for (const auto& img : seq->images) {
+    const auto it = poses.find({img.header.frame_id, img.header.stamp.toNSec()});
+    if (it == poses.end()) {
+      *error = "no TF to frame '" + img.header.frame_id + "' at an image stamp";
+      return false;
+    }
+    seq->T_true.push_back(it->second);
+    seq->times.push_back((img.header.stamp - seq->images.front().header.stamp).toSec());
+  }
+  if (seq->images.size() < 2) *error = "fewer than two images on " + c.image_topic;
+  seq->frame = seq->images.empty() ? "" : seq->images.front().header.frame_id;
+  return seq->images.size() >= 2;
+}
+
+// Fixed-frame odometry error E_i (translation) of every scan.
+Offsets errorOffsets(const DemoConfig& c, const Poses& T_true) {
+  const int n = static_cast<int>(T_true.size());
+  Offsets e(n, core::Vec3::Zero());
+  auto lateral = [&](int i) { return core::Vec3(T_true[i].linear() * core::Vec3::UnitY()); };
+  if (c.error_pattern == "steps" || c.error_pattern == "both") {
+    double sign = 1.0;
+    for (int k : c.step_scans) {
+      if (k < 1 || k >= n) continue;
+      const core::Vec3 jump = sign * c.error_magnitude * lateral(k);
+      for (int i = k; i < n; ++i) e[i] += jump;
+      sign = -sign;
+    }
+  }
+  if (c.error_pattern == "spikes" || c.error_pattern == "both")
+    for (int j : c.spike_scans)
+      if (j >= 0 && j < n) e[j] += c.error_magnitude * lateral(j);
+  return e;
+}
+
+// Verdicts keyed by stamp_b, filled by the subscriber thread.
+class ResultBox {
+ public:
+  void add(const AlignmentQuality& m) {
+    std::lock_guard<std::mutex> l(mu_);
+    results_[m.stamp_b.toNSec()] = m;
+    cv_.notify_all();
+  }
+  // The verdict for stamp_b, waiting up to timeout seconds; false if none came.
+  bool waitFor(const ros::Time& stamp_b, double timeout, AlignmentQuality* out) {
+    std::unique_lock<std::mutex> l(mu_);
+    cv_.wait_for(l, std::chrono::duration<double>(timeout),
+                 [&] { return results_.count(stamp_b.toNSec()) > 0 || !ros::ok(); });
+    const auto it = results_.find(stamp_b.toNSec());
+    if (it == results_.end()) return false;
+    *out = it->second;
+    return true;
+  }
+  std::map<uint64_t, AlignmentQuality> snapshot() {
+    std::lock_guard<std::mutex> l(mu_);
+    return results_;
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::map<uint64_t, AlignmentQuality> results_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "coral_sequence_demo");
+  ros::NodeHandle nh, pnh("~");
+  const DemoConfig cfg = loadConfig(pnh);
+  if (const std::string err = cfg.validate(); !err.empty()) {
+    ROS_FATAL("coral_sequence_demo: invalid parameters: %s", err.c_str());
+    return 2;
+  }
+  Sequence seq;
+  const bool radar = cfg.mode == "oxford";
+  if (radar) {
+    std::string error;
+    if (!readOxfordBag(cfg, &seq, &error)) {
+      ROS_FATAL("coral_sequence_demo: %s", error.c_str());
+      return 1;
+    }
+  } else {
+    seq = simulateSequence(cfg);
+  }
+  const Offsets err = errorOffsets(cfg, seq.T_true);
+  const int n = static_cast<int>(seq.size());
+
+  ResultBox box;
+  ros::Publisher pub = radar ? nh.advertise<sensor_msgs::Image>("polar_image", 2)
+                             : nh.advertise<sensor_msgs::PointCloud2>("scan", 2);
+  ros::Subscriber sub = nh.subscribe<AlignmentQuality>(
+      "alignment", 100,
+      [&box](const coral_introspection::AlignmentQualityConstPtr& m) { box.add(*m); });
+  tf2_ros::TransformBroadcaster tf;
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+
+  // Wait until the nodelet listens to the scans and publishes verdicts.
+  const ros::WallTime t0 = ros::WallTime::now();
+  while (ros::ok() && (pub.getNumSubscribers() == 0 || sub.getNumPublishers() == 0)) {
+    if ((ros::WallTime::now() - t0).toSec() > cfg.start_timeout) {
+      ROS_FATAL("coral_sequence_demo: no subscriber on '%s' / publisher of '%s' after %.0f s",
+                pub.getTopic().c_str(), sub.getTopic().c_str(), cfg.start_timeout);
+      return 1;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  ros::WallDuration(1.0 + std::max(0.0, cfg.start_delay)).sleep();  // TF listener, rviz
+
+  std::printf("[coral_sequence_demo] %d scans (%s), error pattern '%s', %.2f m lateral, steps at {",
+              n, cfg.mode.c_str(), cfg.error_pattern.c_str(), cfg.error_magnitude);
+  for (int k : cfg.step_scans) std::printf(" %d", k);
+  std::printf(" }, spikes at {");
+  for (int j : cfg.spike_scans) std::printf(" %d", j);
+  std::printf(" }\n");
+  std::fflush(stdout);
+
+  const ros::Time t_start = ros::Time::now();
+  std::map<uint64_t, int> index_of_stamp;
+  bool held = false;
+  ros::WallRate rate(cfg.rate);
+  for (int i = 0; i < n && ros::ok(); ++i) {
+    const ros::Time stamp = t_start + ros::Duration(seq.times[i]);
+    index_of_stamp[stamp.toNSec()] = i;
+    geometry_msgs::TransformStamped tf_msg;
+    tf_msg.header.stamp = stamp;
+    tf_msg.header.frame_id = cfg.fixed_frame;
+    tf_msg.child_frame_id = seq.frame;
+    tf_msg.transform = ros_adapters::toTransformMsg(Eigen::Translation3d(err[i]) * seq.T_true[i]);
+    tf.sendTransform(tf_msg);
+    ros::WallDuration(0.02).sleep();  // TF first, so the message filter has it on arrival
+    if (radar) {
+      sensor_msgs::Image img = seq.images[i];
+      img.header.stamp = stamp;
+      pub.publish(img);
+    } else {
+      sensor_msgs::PointCloud2 cloud = seq.clouds[i];
+      cloud.header.stamp = stamp;
+      pub.publish(cloud);
+    }
+
+    AlignmentQuality m;
+    if (i > 0 && box.waitFor(stamp, cfg.result_timeout, &m) && !held && cfg.hold_misaligned > 0.0) {
+      const auto ia = index_of_stamp.find(m.stamp_a.toNSec());
+      const bool injected = ia != index_of_stamp.end() && (err[ia->second] - err[i]).norm() > 1e-6;
+      if (injected && m.valid && !m.aligned) {
+        std::printf("[coral_sequence_demo] HOLD misaligned pair %d-%d shown for %.0f s\n",
+                    ia->second, i, cfg.hold_misaligned);
+        std::fflush(stdout);
+        held = true;
+        ros::WallDuration(cfg.hold_misaligned).sleep();
+      }
+    }
+    rate.sleep();
+  }
+  ros::WallDuration(0.5).sleep();  // last verdicts in flight
+
+  // Match the verdicts to pairs by stamp_a / stamp_b and score them.
+  int inj = 0, inj_flagged = 0, clean = 0, clean_flagged = 0, no_verdict = 0;
+  for (const auto& [key, m] : box.snapshot()) {
+    const auto ia = index_of_stamp.find(m.stamp_a.toNSec());
+    const auto ib = index_of_stamp.find(key);
+    if (ia == index_of_stamp.end() || ib == index_of_stamp.end()) continue;
+    const bool injected = (err[ib->second] - err[ia->second]).norm() > 1e-6;
+    const bool flagged = m.valid && !m.aligned;
+    std::printf("  pair %2d-%2d  Q=%7.4f  p=%.3f  overlap=%.2f  %-10s  %s\n", ia->second,
+                ib->second, m.quality, m.probability, m.overlap,
+                !m.valid ? "NO VERDICT" : (m.aligned ? "aligned" : "MISALIGNED"),
+                injected ? (flagged ? "injected error: detected" : "injected error: MISSED")
+                         : (flagged ? "clean: FALSE ALARM" : "clean"));
+    if (!m.valid) ++no_verdict;
+    if (injected) {
+      ++inj;
+      inj_flagged += flagged;
+    } else {
+      ++clean;
+      clean_flagged += flagged;
+    }
+  }
+  std::printf("[coral_sequence_demo] summary (%d scan pairs judged, %d of them without verdict):\n",
+              inj + clean, no_verdict);
+  std::printf("  injected errors flagged: %d/%d\n", inj_flagged, inj);
+  std::printf("  clean pairs falsely flagged: %d/%d\n", clean_flagged, clean);
+  std::printf("[coral_sequence_demo] done: %s\n",
+              (inj_flagged == inj && clean_flagged == 0 && inj + clean > 0)
+                  ? "every injected error flagged, no false alarm"
+                  : "see the pairs above for misses / false alarms");
+  std::fflush(stdout);
+  spinner.stop();
+  ros::shutdown();
+  return 0;
+}

@@ -1,0 +1,240 @@
+// ROS adapter conversions (no ROS master): PointCloud2 layouts, bad clouds, quality cloud,
+// transforms, report -> message.
+#include <gtest/gtest.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <cmath>
+#include <limits>
+
+#include "coral_introspection/ros/conversions.hpp"
+
+using namespace coral_introspection;
+using sensor_msgs::PointField;
+
+namespace {
+
+// Cloud with fields given as (name, datatype) packed in order, 2 rows x 2 columns, values
+// written by value(point, field index).
+template <class F>
+sensor_msgs::PointCloud2 makeCloud(const std::vector<std::pair<std::string, uint8_t>>& fields,
+                                   F value, uint32_t width = 2, uint32_t height = 2) {
+  sensor_msgs::PointCloud2 c;
+  uint32_t off = 0;
+  for (const auto& f : fields) {
+    PointField pf;
+    pf.name = f.first;
+    pf.datatype = f.second;
+    pf.count = 1;
+    pf.offset = off;
+    off += f.second == PointField::FLOAT64 ? 8 : (f.second == PointField::UINT8 ? 1 : 4);
+    c.fields.push_back(pf);
+  }
+  c.point_step = off + 3;  // padding, as real drivers have
+  c.width = width;
+  c.height = height;
+  c.row_step = c.point_step * width + 5;  // row padding too
+  c.data.assign(c.row_step * height, 0);
+  for (uint32_t r = 0; r < height; ++r)
+    for (uint32_t i = 0; i < width; ++i) {
+      uint8_t* p = c.data.data() + r * c.row_step + i * c.point_step;
+      for (std::size_t k = 0; k < fields.size(); ++k) {
+        const double v = value(r * width + i, k);
+        if (fields[k].second == PointField::FLOAT64)
+          std::memcpy(p + c.fields[k].offset, &v, 8);
+        else if (fields[k].second == PointField::FLOAT32) {
+          const float f = static_cast<float>(v);
+          std::memcpy(p + c.fields[k].offset, &f, 4);
+        } else if (fields[k].second == PointField::UINT8) {
+          p[c.fields[k].offset] = static_cast<uint8_t>(v);
+        }
+      }
+    }
+  return c;
+}
+
+}  // namespace
+
+TEST(CloudToPoints, ReadsFloat32WithPaddingAndOtherFields) {
+  // Field order z, intensity, x, y: offsets, not order, must matter.
+  const auto c = makeCloud({{"z", PointField::FLOAT32},
+                            {"intensity", PointField::FLOAT32},
+                            {"x", PointField::FLOAT32},
+                            {"y", PointField::FLOAT32}},
+                           [](uint32_t i, std::size_t k) { return k == 1 ? 99.0 : 10.0 * i + k; });
+  core::Points pts;
+  std::string err;
+  ros_adapters::CloudReadStats st;
+  ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err, &st)) << err;
+  ASSERT_EQ(pts.size(), 4u);
+  EXPECT_EQ(st.total, 4u);
+  EXPECT_EQ(st.non_finite, 0u);
+  EXPECT_DOUBLE_EQ(pts[3].x(), 32.0);
+  EXPECT_DOUBLE_EQ(pts[3].y(), 33.0);
+  EXPECT_DOUBLE_EQ(pts[3].z(), 30.0);
+}
+
+TEST(CloudToPoints, ReadsFloat64AndExtraField) {
+  const auto c =
+      makeCloud({{"x", PointField::FLOAT64},
+                 {"y", PointField::FLOAT64},
+                 {"z", PointField::FLOAT64},
+                 {"velocity", PointField::FLOAT32}},
+                [](uint32_t i, std::size_t k) { return k == 3 ? -0.5 * i : 1.0 + i + 0.25 * k; });
+  core::Points pts;
+  std::vector<double> vel;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err, nullptr, "velocity", &vel)) << err;
+  ASSERT_EQ(pts.size(), 4u);
+  ASSERT_EQ(vel.size(), 4u);
+  EXPECT_DOUBLE_EQ(pts[2].x(), 3.0);
+  EXPECT_DOUBLE_EQ(pts[2].z(), 3.5);
+  EXPECT_DOUBLE_EQ(vel[2], -1.0);
+  EXPECT_TRUE(ros_adapters::hasField(c, "velocity"));
+  EXPECT_FALSE(ros_adapters::hasField(c, "rcs"));
+  EXPECT_FALSE(ros_adapters::cloudToPoints(c, &pts, &err, nullptr, "rcs", &vel));
+  EXPECT_NE(err.find("rcs"), std::string::npos) << err;
+}
+
+TEST(CloudToPoints, DropsAndCountsNonFinite) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto c = makeCloud(
+      {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"z", PointField::FLOAT32}},
+      [&](uint32_t i, std::size_t k) {
+        if (i == 1 && k == 2) return nan;
+        if (i == 2 && k == 0) return -inf;
+        return 1.0 * i;
+      });
+  core::Points pts;
+  std::string err;
+  ros_adapters::CloudReadStats st;
+  ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err, &st));
+  ASSERT_EQ(pts.size(), 2u);
+  EXPECT_EQ(st.non_finite, 2u);
+  EXPECT_DOUBLE_EQ(pts[0].x(), 0.0);
+  EXPECT_DOUBLE_EQ(pts[1].x(), 3.0);
+}
+
+TEST(CloudToPoints, MissingXyzIsAClearError) {
+  const auto c = makeCloud(
+      {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"intensity", PointField::FLOAT32}},
+      [](uint32_t, std::size_t) { return 1.0; });
+  core::Points pts;
+  std::string err;
+  EXPECT_FALSE(ros_adapters::cloudToPoints(c, &pts, &err));
+  EXPECT_NE(err.find("no field 'z'"), std::string::npos) << err;
+  EXPECT_NE(err.find("intensity"), std::string::npos) << err;  // lists what is there
+}
+
+TEST(CloudToPoints, TruncatedDataAndFieldOutsidePointAreErrors) {
+  auto c = makeCloud(
+      {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"z", PointField::FLOAT32}},
+      [](uint32_t, std::size_t) { return 1.0; });
+  core::Points pts;
+  std::string err;
+  auto short_cloud = c;
+  short_cloud.data.resize(c.data.size() - 1);
+  EXPECT_FALSE(ros_adapters::cloudToPoints(short_cloud, &pts, &err));
+  EXPECT_NE(err.find("too short"), std::string::npos) << err;
+  auto bad_offset = c;
+  bad_offset.fields[2].offset = c.point_step - 2;
+  EXPECT_FALSE(ros_adapters::cloudToPoints(bad_offset, &pts, &err));
+  EXPECT_NE(err.find("outside point_step"), std::string::npos) << err;
+}
+
+TEST(CloudToPoints, EmptyCloudIsValidAndEmpty) {
+  sensor_msgs::PointCloud2 c;
+  sensor_msgs::PointCloud2Modifier(c).setPointCloud2FieldsByString(1, "xyz");
+  core::Points pts(3, core::Vec3::Ones());
+  std::string err;
+  ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err)) << err;
+  EXPECT_TRUE(pts.empty());
+}
+
+TEST(PointsToCloud, RoundTripsWithIntensity) {
+  core::Points pts{core::Vec3(1, 2, 3), core::Vec3(-4, 5.5, 0)};
+  std::vector<float> inten{7.f, 8.f};
+  std_msgs::Header h;
+  h.frame_id = "radar";
+  const auto c = ros_adapters::pointsToCloud(pts, h, &inten);
+  EXPECT_EQ(c.header.frame_id, "radar");
+  core::Points back;
+  std::vector<double> ib;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::cloudToPoints(c, &back, &err, nullptr, "intensity", &ib));
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_DOUBLE_EQ(back[1].y(), 5.5);
+  EXPECT_DOUBLE_EQ(ib[1], 8.0);
+}
+
+TEST(QualityCloud, HoldsValidPointsWithEntropiesAndScanIndex) {
+  core::Scan a, b;
+  a.points = {core::Vec3(0, 0, 0), core::Vec3(1, 0, 0)};
+  b.points = {core::Vec3(2, 0, 0)};
+  core::CoralResult r;
+  r.per_point.resize(3);
+  r.per_point[0].valid = true;
+  r.per_point[0].h_sep = -2.f;
+  r.per_point[0].h_joint = -1.5f;
+  r.per_point[1].valid = false;  // not in the cloud
+  r.per_point[2].valid = true;
+  r.per_point[2].h_sep = -1.f;
+  r.per_point[2].h_joint = 0.5f;
+  std_msgs::Header h;
+  h.frame_id = "odom";
+  const auto c = ros_adapters::buildQualityCloud(a, b, r, h);
+  ASSERT_EQ(c.width * c.height, 2u);
+  for (const char* f : {"x", "y", "z", "q", "h_sep", "h_joint", "scan"})
+    EXPECT_TRUE(ros_adapters::hasField(c, f)) << f;
+  sensor_msgs::PointCloud2ConstIterator<float> x(c, "x"), q(c, "q"), hs(c, "h_sep");
+  sensor_msgs::PointCloud2ConstIterator<uint8_t> s(c, "scan");
+  EXPECT_FLOAT_EQ(*x, 0.f);
+  EXPECT_FLOAT_EQ(*q, 0.5f);
+  EXPECT_FLOAT_EQ(*hs, -2.f);
+  EXPECT_EQ(*s, 0);
+  ++x, ++q, ++s;
+  EXPECT_FLOAT_EQ(*x, 2.f);
+  EXPECT_FLOAT_EQ(*q, 1.5f);
+  EXPECT_EQ(*s, 1);
+}
+
+TEST(ToMessage, InvalidResultIsNeverAligned) {
+  core::CoralResult r;
+  r.valid = false;
+  r.h_joint = 1.0;
+  r.h_sep = 0.5;
+  r.quality = 0.5;
+  r.overlap = 0.01;
+  r.num_points_a = 10;
+  core::Verdict v;
+  v.aligned = true;
+  v.probability = 0.9;
+  std_msgs::Header h;
+  const auto m = ros_adapters::toMessage(r, v, h, ros::Time(1.0), ros::Time(2.0));
+  EXPECT_FALSE(m.valid);
+  EXPECT_FALSE(m.aligned);
+  EXPECT_EQ(m.probability, 0.0);
+  EXPECT_EQ(m.num_points_a, 10u);
+  EXPECT_DOUBLE_EQ(m.quality, 0.5);
+  EXPECT_EQ(m.stamp_b, ros::Time(2.0));
+  r.valid = true;
+  const auto m2 = ros_adapters::toMessage(r, v, h, ros::Time(1.0), ros::Time(2.0));
+  EXPECT_TRUE(m2.aligned);
+  EXPECT_DOUBLE_EQ(m2.probability, 0.9);
+}
+
+TEST(Transforms, RoundTripAndRejectBadQuaternion) {
+  const Eigen::Isometry3d T = core::se2(1.0, -2.0, 0.7) * Eigen::Translation3d(0, 0, 0.3);
+  const geometry_msgs::Transform m = ros_adapters::toTransformMsg(T);
+  Eigen::Isometry3d back;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::toEigen(m, &back, &err)) << err;
+  EXPECT_TRUE(back.isApprox(T, 1e-12));
+  EXPECT_NEAR((back * core::Vec3(1, 0, 0) - T * core::Vec3(1, 0, 0)).norm(), 0.0, 1e-12);
+  geometry_msgs::Transform zero;  // all-zero quaternion: a common uninitialised request
+  EXPECT_FALSE(ros_adapters::toEigen(zero, &back, &err));
+  EXPECT_NE(err.find("unit quaternion"), std::string::npos) << err;
+  geometry_msgs::Transform nan = m;
+  nan.translation.x = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(ros_adapters::toEigen(nan, &back, &err));
+}

@@ -1,0 +1,130 @@
+// Parameter loading and validation of CoralNodelet (no ROS master: XmlRpc trees).
+#include <gtest/gtest.h>
+
+#include "coral_introspection/ros/params.hpp"
+
+using namespace coral_introspection;
+using XmlRpc::XmlRpcValue;
+
+namespace {
+XmlRpcValue group(const std::string& k, XmlRpcValue v) {
+  XmlRpcValue g;
+  g[k] = v;
+  return g;
+}
+}  // namespace
+
+TEST(Params, EmptyTreeGivesCoreDefaults) {
+  ros_adapters::NodeConfig c;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(XmlRpcValue(), &c, &err)) << err;
+  EXPECT_EQ(c.input_type, ros_adapters::InputType::kPointCloud);
+  EXPECT_EQ(c.fixed_frame, "odom");
+  EXPECT_DOUBLE_EQ(c.coral.radius, core::CoralConfig().radius);
+  EXPECT_DOUBLE_EQ(c.classifier.beta0, core::ClassifierConfig().beta0);
+  EXPECT_EQ(c.rip.k, core::RipConfig().k);
+}
+
+TEST(Params, ReadsNestedValuesOfEveryType) {
+  XmlRpcValue t;
+  t["input_type"] = "polar_image";
+  t["fixed_frame"] = "map";
+  t["queue_size"] = 5;
+  t["coral"]["radius"] = 1;  // int accepted for a double
+  t["coral"]["aggregation"] = "median";
+  t["coral"]["dynamic_radius"] = true;
+  t["classifier"]["beta0"] = 11.0;
+  t["classifier"]["threshold"] = 0.7;
+  t["radar"]["polar_format"] = "plain";
+  t["radar"]["azimuth_direction"] = "cw";
+  t["radar"]["num_azimuths"] = 400.0;  // integral double accepted for an int
+  t["rip"]["k"] = 8;
+  t["pairing"]["min_distance"] = 2.5;
+  t["doppler"]["enabled"] = true;
+  t["doppler"]["velocity_field"] = "v_r";
+  ros_adapters::NodeConfig c;
+  std::string err;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, &warnings)) << err;
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_EQ(c.input_type, ros_adapters::InputType::kPolarImage);
+  EXPECT_EQ(c.coral.dimension, 2);  // radar default when coral/dimension is not given
+  EXPECT_EQ(c.fixed_frame, "map");
+  EXPECT_EQ(c.queue_size, 5);
+  EXPECT_DOUBLE_EQ(c.coral.radius, 1.0);
+  EXPECT_EQ(c.coral.aggregation, core::Aggregation::kMedian);
+  EXPECT_TRUE(c.coral.dynamic_radius);
+  EXPECT_DOUBLE_EQ(c.classifier.beta0, 11.0);
+  EXPECT_DOUBLE_EQ(c.classifier.threshold, 0.7);
+  EXPECT_EQ(c.polar_format, ros_adapters::PolarFormat::kPlain);
+  EXPECT_EQ(c.polar.direction, core::AzimuthDirection::kClockwise);
+  EXPECT_EQ(c.polar.num_azimuths, 400);
+  EXPECT_EQ(c.rip.k, 8);
+  EXPECT_DOUBLE_EQ(c.pairing.min_distance, 2.5);
+  EXPECT_TRUE(c.doppler.enabled);
+  EXPECT_EQ(c.doppler.velocity_field, "v_r");
+}
+
+TEST(Params, OutOfRangeValueNamesParamValueAndRange) {
+  ros_adapters::NodeConfig c;
+  std::string err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(group("coral", group("radius", -0.5)), &c, &err));
+  EXPECT_NE(err.find("coral/radius"), std::string::npos) << err;
+  EXPECT_NE(err.find("-0.5"), std::string::npos) << err;
+  EXPECT_NE(err.find("> 0"), std::string::npos) << err;
+
+  c = ros_adapters::NodeConfig();
+  EXPECT_FALSE(
+      ros_adapters::loadNodeConfig(group("classifier", group("threshold", 1.5)), &c, &err));
+  EXPECT_NE(err.find("classifier/threshold"), std::string::npos) << err;
+  EXPECT_NE(err.find("1.5"), std::string::npos) << err;
+
+  c = ros_adapters::NodeConfig();
+  EXPECT_FALSE(
+      ros_adapters::loadNodeConfig(group("pairing", group("max_time_gap", -1.0)), &c, &err));
+  EXPECT_NE(err.find("pairing/max_time_gap"), std::string::npos) << err;
+
+  c = ros_adapters::NodeConfig();
+  XmlRpcValue q;
+  q["queue_size"] = 0;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(q, &c, &err));
+  EXPECT_NE(err.find("queue_size"), std::string::npos) << err;
+}
+
+TEST(Params, WrongTypeAndUnknownChoiceAreRejected) {
+  ros_adapters::NodeConfig c;
+  std::string err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(group("coral", group("radius", "big")), &c, &err));
+  EXPECT_NE(err.find("~coral/radius must be a number"), std::string::npos) << err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(group("rip", group("k", 2.5)), &c, &err));
+  EXPECT_NE(err.find("~rip/k must be an integer"), std::string::npos) << err;
+  XmlRpcValue t;
+  t["input_type"] = "laserscan";
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("laserscan"), std::string::npos) << err;
+  EXPECT_NE(err.find("pointcloud polar_image"), std::string::npos) << err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(group("coral", group("aggregation", "max")), &c, &err));
+  EXPECT_NE(err.find("mean median"), std::string::npos) << err;
+}
+
+TEST(Params, RadarParamsValidatedOnlyForRadarInput) {
+  XmlRpcValue t;
+  t["rip"]["k"] = 0;  // invalid, but irrelevant for point clouds
+  ros_adapters::NodeConfig c;
+  std::string err;
+  EXPECT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
+  t["input_type"] = "polar_image";
+  c = ros_adapters::NodeConfig();
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("rip/"), std::string::npos) << err;
+}
+
+TEST(Params, TyposInGroupsAreWarned) {
+  ros_adapters::NodeConfig c;
+  std::string err;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(
+      ros_adapters::loadNodeConfig(group("coral", group("raduis", 1.0)), &c, &err, &warnings));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("coral/raduis"), std::string::npos);
+}

@@ -1,0 +1,137 @@
+// Shared helpers of the CoralNodelet rostests: a constant-velocity trajectory through the
+// synthetic yard, lidar clouds and plain polar radar images rendered from it, TF
+// broadcasting and message collectors.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <cmath>
+#include <deque>
+#include <mutex>
+#include <random>
+
+#include "coral_introspection/AlignmentQuality.h"
+#include "coral_introspection/core/motion_compensation.hpp"
+#include "coral_introspection/core/synthetic.hpp"
+#include "coral_introspection/ros/conversions.hpp"
+
+namespace coral_test {
+
+using namespace coral_introspection;
+
+// Sensor pose at time t [s] after the start: 3 m/s forward, turning at 0.3 rad/s.
+inline Eigen::Isometry3d trajectory(double t) {
+  core::Twist v;
+  v.linear = core::Vec3(3.0, 0.0, 0.0);
+  v.angular = core::Vec3(0.0, 0.0, 0.3);
+  return core::se2(-5.0, -1.5, 0.1) * core::constantVelocityPose(v, t);
+}
+
+inline sensor_msgs::PointCloud2 lidarCloud(const Eigen::Isometry3d& T_world_sensor,
+                                           const ros::Time& stamp, const std::string& frame,
+                                           std::mt19937& rng, int rings = 16) {
+  core::LidarModel m;
+  m.rings = rings;
+  if (rings == 1) m.v_min_deg = m.v_max_deg = 0.0;
+  const core::Points pts =
+      core::simulateScan(core::SyntheticScene::structuredYard(), T_world_sensor, m, rng);
+  std_msgs::Header h;
+  h.stamp = stamp;
+  h.frame_id = frame;
+  return ros_adapters::pointsToCloud(pts, h);
+}
+
+// Plain mono8 polar image (rows = ccw azimuths from +x, bin i = range i * res), row i seen
+// from pose(t0 + i * period / rows): a moving, distorted scan like a real spinning radar.
+template <class PoseFn>
+sensor_msgs::Image polarImage(PoseFn pose, double t0, const ros::Time& stamp,
+                              const std::string& frame, int rows = 400, int bins = 600,
+                              double res = 0.1, double period = 0.25) {
+  const auto scene = core::SyntheticScene::structuredYard();
+  sensor_msgs::Image im;
+  im.header.stamp = stamp;
+  im.header.frame_id = frame;
+  im.encoding = sensor_msgs::image_encodings::MONO8;
+  im.height = rows;
+  im.width = bins;
+  im.step = bins;
+  im.data.assign(static_cast<std::size_t>(rows) * bins, 20);  // noise floor below z_min
+  for (int r = 0; r < rows; ++r) {
+    const Eigen::Isometry3d T = pose(t0 + r * period / rows);
+    const double az = 2.0 * M_PI * r / rows;
+    const core::Vec3 d = T.linear() * core::Vec3(std::cos(az), std::sin(az), 0.0);
+    const auto range = scene.castRay(T.translation(), d, res * (bins - 3));
+    if (!range) continue;
+    const int b = static_cast<int>(std::lround(*range / res));
+    for (int k = -2; k <= 2; ++k)
+      if (b + k >= 0 && b + k < bins)
+        im.data[r * bins + b + k] = static_cast<uint8_t>(220 - 30 * std::abs(k));
+  }
+  return im;
+}
+
+inline void sendTf(tf2_ros::TransformBroadcaster& br, const Eigen::Isometry3d& T,
+                   const ros::Time& stamp, const std::string& child,
+                   const std::string& parent = "odom") {
+  geometry_msgs::TransformStamped ts = tf2::eigenToTransform(T);
+  ts.header.stamp = stamp;
+  ts.header.frame_id = parent;
+  ts.child_frame_id = child;
+  br.sendTransform(ts);
+}
+
+// Thread-safe store of every message received on a topic.
+template <class M>
+class Collector {
+ public:
+  Collector(ros::NodeHandle& nh, const std::string& topic) {
+    sub_ = nh.subscribe<M>(topic, 100, [this](const boost::shared_ptr<const M>& m) {
+      std::lock_guard<std::mutex> l(mutex_);
+      msgs_.push_back(*m);
+    });
+  }
+  std::size_t size() {
+    std::lock_guard<std::mutex> l(mutex_);
+    return msgs_.size();
+  }
+  std::vector<M> all() {
+    std::lock_guard<std::mutex> l(mutex_);
+    return std::vector<M>(msgs_.begin(), msgs_.end());
+  }
+  void clear() {
+    std::lock_guard<std::mutex> l(mutex_);
+    msgs_.clear();
+  }
+  // Waits (wall time) until at least n messages arrived.
+  bool waitFor(std::size_t n, double timeout = 10.0) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      if (size() >= n) return true;
+      ros::WallDuration(0.01).sleep();
+    }
+    return size() >= n;
+  }
+  ros::Subscriber& sub() { return sub_; }
+
+ private:
+  ros::Subscriber sub_;
+  std::mutex mutex_;
+  std::deque<M> msgs_;
+};
+
+inline bool waitForSubscriber(const ros::Publisher& pub, double timeout = 15.0) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (pub.getNumSubscribers() > 0) return true;
+    ros::WallDuration(0.05).sleep();
+  }
+  return false;
+}
+
+}  // namespace coral_test

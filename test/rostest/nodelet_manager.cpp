@@ -1,0 +1,117 @@
+// rostest: CoralNodelet in a nodelet manager next to another nodelet (a second instance),
+// loaded and unloaded through the manager's services (see nodelet_manager.test).
+#include "coral_rostest_utils.hpp"
+
+#include <nodelet/NodeletList.h>
+#include <nodelet/NodeletLoad.h>
+#include <nodelet/NodeletUnload.h>
+
+#include <algorithm>
+
+using namespace coral_test;
+using coral_introspection::AlignmentQuality;
+
+namespace {
+
+// Loads CoralNodelet as /<ns>/coral: its topics and service live in /<ns>, its private
+// parameters (loaded by the launch file) in /<ns>/coral.
+bool load(const std::string& ns) {
+  nodelet::NodeletLoad srv;
+  srv.request.name = "/" + ns + "/coral";
+  srv.request.type = "coral_introspection/CoralNodelet";
+  return ros::service::call("/manager/load_nodelet", srv) && srv.response.success;
+}
+
+std::vector<std::string> loaded() {
+  nodelet::NodeletList srv;
+  if (!ros::service::call("/manager/list", srv)) return {"<list failed>"};
+  return srv.response.nodelets;
+}
+
+bool topicHasPublisher(const std::string& topic) {
+  ros::master::V_TopicInfo topics;
+  ros::master::getTopics(topics);
+  return std::any_of(topics.begin(), topics.end(),
+                     [&](const ros::master::TopicInfo& t) { return t.name == topic; });
+}
+
+TEST(Manager, TwoInstancesRunAndUnloadCleanly) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(ros::service::waitForService("/manager/load_nodelet", ros::Duration(20.0)));
+  tf2_ros::TransformBroadcaster br;  // early: its first message must not be lost
+  ASSERT_TRUE(load("first"));
+  ASSERT_TRUE(load("second"));
+  auto names = loaded();
+  EXPECT_EQ(names.size(), 2u);
+
+  Collector<AlignmentQuality> first(nh, "/first/alignment"), second(nh, "/second/alignment");
+  ros::Publisher pub1 = nh.advertise<sensor_msgs::PointCloud2>("/first/scan", 10);
+  ros::Publisher pub2 = nh.advertise<sensor_msgs::PointCloud2>("/second/scan", 10);
+  ASSERT_TRUE(waitForSubscriber(pub1));
+  ASSERT_TRUE(waitForSubscriber(pub2));
+  ros::WallDuration(1.0).sleep();  // TF connections
+  std::mt19937 rng(9);
+  const ros::Time base = ros::Time::now();
+  for (int i = 0; i < 4; ++i) {
+    const double t = 0.1 * i;
+    const ros::Time stamp = base + ros::Duration(t);
+    sendTf(br, trajectory(t), stamp, "lidar");
+    ros::WallDuration(0.03).sleep();
+    pub1.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
+    pub2.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
+    ros::WallDuration(0.1).sleep();
+  }
+  ASSERT_TRUE(first.waitFor(3, 15.0));
+  ASSERT_TRUE(second.waitFor(3, 15.0));
+  for (const auto& m : first.all()) EXPECT_TRUE(m.aligned);
+  for (const auto& m : second.all()) EXPECT_TRUE(m.aligned);
+
+  // Unload the first: the second keeps working, the first's outputs disappear.
+  nodelet::NodeletUnload un;
+  un.request.name = "/first/coral";
+  ASSERT_TRUE(ros::service::call("/manager/unload_nodelet", un));
+  EXPECT_TRUE(un.response.success);
+  ros::WallDuration(1.0).sleep();
+  EXPECT_FALSE(topicHasPublisher("/first/alignment"));
+  EXPECT_EQ(loaded(), std::vector<std::string>{"/second/coral"});
+  const std::size_t before = second.size();
+  for (int i = 4; i < 6; ++i) {
+    const double t = 0.1 * i;
+    const ros::Time stamp = base + ros::Duration(t);
+    sendTf(br, trajectory(t), stamp, "lidar");
+    ros::WallDuration(0.03).sleep();
+    pub1.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
+    pub2.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
+    ros::WallDuration(0.1).sleep();
+  }
+  EXPECT_TRUE(second.waitFor(before + 2, 15.0));
+
+  un.request.name = "/second/coral";
+  ASSERT_TRUE(ros::service::call("/manager/unload_nodelet", un));
+  EXPECT_TRUE(un.response.success);
+  EXPECT_TRUE(loaded().empty());  // the manager is still up and answers
+  // Loading again after unloading works (no stale global state).
+  EXPECT_TRUE(load("first"));
+  EXPECT_EQ(loaded().size(), 1u);
+}
+
+TEST(Manager, InvalidParametersFailTheLoad) {
+  ros::param::set("/broken/coral/coral/radius", -1.0);
+  // onInit rejects the value (FATAL log naming ~coral/radius), so the load fails.
+  EXPECT_FALSE(load("broken"));
+  const auto names = loaded();
+  EXPECT_EQ(std::count(names.begin(), names.end(), "/broken/coral"), 0);
+  EXPECT_EQ(names.size(), 1u);  // the manager still runs the nodelet loaded above
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "nodelet_manager_test");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int r = RUN_ALL_TESTS();
+  ros::shutdown();
+  return r;
+}

@@ -1,0 +1,82 @@
+// rostest: the check_alignment service (see nodelet_service.test).
+#include "coral_rostest_utils.hpp"
+
+#include "coral_introspection/CheckAlignment.h"
+
+using namespace coral_test;
+using coral_introspection::CheckAlignment;
+
+namespace {
+
+// b is 0.75 s further along the trajectory than a; T_a_b maps b's points into a's frame.
+const Eigen::Isometry3d T_world_a = trajectory(0.5), T_world_b = trajectory(1.25);
+const Eigen::Isometry3d T_a_b = T_world_a.inverse() * T_world_b;
+const Eigen::Isometry3d T_a_b_wrong = T_a_b * Eigen::Translation3d(0.0, 0.5, 0.0);
+
+bool call(const std::string& name, CheckAlignment& srv) {
+  if (!ros::service::waitForService(name, ros::Duration(20.0))) return false;
+  return ros::service::call(name, srv);
+}
+
+TEST(CheckAlignment, CloudsCorrectVsOffsetTransform) {
+  std::mt19937 rng(5);
+  CheckAlignment srv;
+  srv.request.cloud_a = lidarCloud(T_world_a, ros::Time(10.0), "lidar_a", rng);
+  srv.request.cloud_b = lidarCloud(T_world_b, ros::Time(11.0), "lidar_b", rng);
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b);
+  ASSERT_TRUE(call("/lidar/check_alignment", srv));
+  const auto good = srv.response.result;
+  EXPECT_TRUE(good.valid);
+  EXPECT_TRUE(good.aligned) << "Q = " << good.quality << " p = " << good.probability;
+  EXPECT_EQ(good.header.frame_id, "lidar_a");
+  EXPECT_EQ(good.stamp_b, ros::Time(11.0));
+  EXPECT_GT(good.num_points_b, 1000u);
+
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b_wrong);
+  ASSERT_TRUE(call("/lidar/check_alignment", srv));
+  const auto bad = srv.response.result;
+  EXPECT_TRUE(bad.valid);
+  EXPECT_FALSE(bad.aligned) << "Q = " << bad.quality << " p = " << bad.probability;
+  EXPECT_GT(bad.quality, good.quality);
+  EXPECT_LT(bad.probability, good.probability);
+
+  // A malformed request fails the call (no crash), and the service keeps working.
+  CheckAlignment broken = srv;
+  broken.request.transform_a_b.rotation.w = 0.0;  // zero quaternion
+  EXPECT_FALSE(call("/lidar/check_alignment", broken));
+  broken = srv;
+  broken.request.cloud_b.fields.pop_back();  // no z
+  EXPECT_FALSE(call("/lidar/check_alignment", broken));
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b);
+  ASSERT_TRUE(call("/lidar/check_alignment", srv));
+  EXPECT_TRUE(srv.response.result.aligned);
+}
+
+TEST(CheckAlignment, PolarImagesCorrectVsOffsetTransform) {
+  CheckAlignment srv;
+  // Static renders (one pose per image): the service has no velocity to de-skew with.
+  srv.request.image_a = polarImage([](double) { return T_world_a; }, 0.0, ros::Time(10.0), "radar");
+  srv.request.image_b = polarImage([](double) { return T_world_b; }, 0.0, ros::Time(11.0), "radar");
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b);
+  ASSERT_TRUE(call("/radar/check_alignment", srv));
+  const auto good = srv.response.result;
+  EXPECT_TRUE(good.valid);
+  EXPECT_TRUE(good.aligned) << "Q = " << good.quality;
+  EXPECT_GT(good.num_points_a, 200u);
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b_wrong);
+  ASSERT_TRUE(call("/radar/check_alignment", srv));
+  EXPECT_TRUE(srv.response.result.valid);
+  EXPECT_FALSE(srv.response.result.aligned) << "Q = " << srv.response.result.quality;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "nodelet_service_test");
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  const int r = RUN_ALL_TESTS();
+  ros::shutdown();
+  return r;
+}
