@@ -1,10 +1,11 @@
 #include "coral_introspection/core/cfear_scores.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <unordered_map>
 
 #include "coral_introspection/core/entropy.hpp"
@@ -14,14 +15,12 @@ namespace coral_introspection {
 namespace core {
 
 std::string CfearConfig::validate() const {
-  std::ostringstream e;
-  if (!(resolution > 0.0)) e << "resolution must be > 0 m (got " << resolution << "); ";
-  if (min_points < 3) e << "min_points must be >= 3 (got " << min_points << "); ";
-  if (!(eigen_floor_ratio > 0.0 && eigen_floor_ratio <= 1.0))
-    e << "eigen_floor_ratio must be in (0, 1] (got " << eigen_floor_ratio << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .require(resolution > 0.0, "resolution", "> 0 m", resolution)
+      .require(min_points >= 3, "min_points", ">= 3", min_points)
+      .require(eigen_floor_ratio > 0.0 && eigen_floor_ratio <= 1.0, "eigen_floor_ratio", "in (0, 1]",
+               eigen_floor_ratio)
+      .str();
 }
 
 namespace {

@@ -1,11 +1,12 @@
 #include "coral_introspection/core/doppler.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
-#include <sstream>
 
 #include "coral_introspection/core/doppler_fit.hpp"
 
@@ -13,22 +14,17 @@ namespace coral_introspection {
 namespace core {
 
 std::string DopplerConfig::validate() const {
-  std::ostringstream e;
-  if (!(sigma_doppler > 0.0)) e << "sigma_doppler must be > 0 m/s (got " << sigma_doppler << "); ";
-  if (!(ransac_threshold > 0.0))
-    e << "ransac_threshold must be > 0 m/s (got " << ransac_threshold << "); ";
-  if (ransac_iterations < 1)
-    e << "ransac_iterations must be >= 1 (got " << ransac_iterations << "); ";
-  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0))
-    e << "min_inlier_ratio must be in [0, 1] (got " << min_inlier_ratio << "); ";
-  if (min_points < 3) e << "min_points must be >= 3 (got " << min_points << "); ";
-  if (!(confidence > 0.0 && confidence < 1.0))
-    e << "confidence must be in (0, 1) (got " << confidence << "); ";
-  if (!(sigma_reference_velocity >= 0.0))
-    e << "sigma_reference_velocity must be >= 0 m/s (got " << sigma_reference_velocity << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .require(sigma_doppler > 0.0, "sigma_doppler", "> 0 m/s", sigma_doppler)
+      .require(ransac_threshold > 0.0, "ransac_threshold", "> 0 m/s", ransac_threshold)
+      .require(ransac_iterations >= 1, "ransac_iterations", ">= 1", ransac_iterations)
+      .require(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0, "min_inlier_ratio", "in [0, 1]",
+               min_inlier_ratio)
+      .require(min_points >= 3, "min_points", ">= 3", min_points)
+      .require(confidence > 0.0 && confidence < 1.0, "confidence", "in (0, 1)", confidence)
+      .require(sigma_reference_velocity >= 0.0, "sigma_reference_velocity", ">= 0 m/s",
+               sigma_reference_velocity)
+      .str();
 }
 
 EgoVelocityResult estimateEgoVelocity(const Points& points,

@@ -1,9 +1,10 @@
 #include "coral_introspection/core/evaluation.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
-#include <sstream>
 
 #include "coral_introspection/core/metrics.hpp"
 
@@ -11,11 +12,10 @@ namespace coral_introspection {
 namespace core {
 
 std::string EvaluationConfig::validate() const {
-  std::ostringstream e;
-  if (folds < 2) e << "folds must be >= 2 (got " << folds << ")";
-  const std::string r = regression.validate();
-  if (!r.empty()) e << (e.str().empty() ? "" : "; ") << r;
-  return e.str();
+  return Problems()
+      .require(folds >= 2, "folds", ">= 2", folds)
+      .nested("regression", regression.validate())
+      .str();
 }
 
 void selectSamples(const SampleSet& set, int method, const std::string& group,

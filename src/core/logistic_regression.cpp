@@ -1,22 +1,20 @@
 #include "coral_introspection/core/logistic_regression.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <Eigen/Cholesky>
 #include <cmath>
-#include <sstream>
 
 namespace coral_introspection {
 namespace core {
 
 std::string LogisticRegressionConfig::validate() const {
-  std::ostringstream e;
-  if (!(ridge >= 0.0 && std::isfinite(ridge))) e << "ridge must be finite and >= 0 (got " << ridge << "); ";
-  if (max_iterations < 1) e << "max_iterations must be >= 1 (got " << max_iterations << "); ";
-  if (!(tolerance > 0.0)) e << "tolerance must be > 0 (got " << tolerance << "); ";
-  if (!(threshold > 0.0 && threshold < 1.0))
-    e << "threshold must be in (0, 1) (got " << threshold << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .require(ridge >= 0.0 && std::isfinite(ridge), "ridge", "finite and >= 0", ridge)
+      .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
+      .require(tolerance > 0.0, "tolerance", "> 0", tolerance)
+      .require(threshold > 0.0 && threshold < 1.0, "threshold", "in (0, 1)", threshold)
+      .str();
 }
 
 double LogisticModel::probability(const Eigen::VectorXd& x) const {

@@ -1,9 +1,10 @@
 #include "coral_introspection/core/ndt.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <unordered_map>
 
 #include "coral_introspection/core/entropy.hpp"
@@ -12,16 +13,13 @@ namespace coral_introspection {
 namespace core {
 
 std::string NdtConfig::validate() const {
-  std::ostringstream e;
-  if (dimension != 2 && dimension != 3) e << "dimension must be 2 or 3 (got " << dimension << "); ";
-  if (!(voxel_size > 0.0)) e << "voxel_size must be > 0 m (got " << voxel_size << "); ";
-  if (min_points < dimension + 1)
-    e << "min_points must be >= dimension + 1 (got " << min_points << "); ";
-  if (!(eigen_floor_ratio > 0.0 && eigen_floor_ratio <= 1.0))
-    e << "eigen_floor_ratio must be in (0, 1] (got " << eigen_floor_ratio << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
+      .require(voxel_size > 0.0, "voxel_size", "> 0 m", voxel_size)
+      .require(min_points >= dimension + 1, "min_points", ">= dimension + 1", min_points)
+      .require(eigen_floor_ratio > 0.0 && eigen_floor_ratio <= 1.0, "eigen_floor_ratio", "in (0, 1]",
+               eigen_floor_ratio)
+      .str();
 }
 
 namespace {

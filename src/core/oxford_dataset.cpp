@@ -1,5 +1,7 @@
 #include "coral_introspection/core/oxford_dataset.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <sys/stat.h>
 #include <fstream>
 #include <map>
@@ -12,10 +14,6 @@ namespace coral_introspection {
 namespace core {
 
 namespace {
-bool fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-  return false;
-}
 bool isFile(const std::string& p) {
   struct stat st;
   return stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);

@@ -1,8 +1,9 @@
 #include "coral_introspection/core/oxford_training.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "coral_introspection/core/motion_compensation.hpp"
 #include "coral_introspection/core/polar_scan.hpp"
@@ -11,15 +12,12 @@ namespace coral_introspection {
 namespace core {
 
 std::string OxfordTrainingConfig::validate() const {
-  std::ostringstream e;
-  if (const std::string r = rip.validate(); !r.empty()) e << "rip: " << r << "; ";
-  if (cfear_k < 1) e << "cfear_k must be >= 1 (got " << cfear_k << "); ";
-  if (!(cfear_z_min >= 0.0 && cfear_z_min <= 255.0))
-    e << "cfear_z_min must be in [0, 255] (got " << cfear_z_min << "); ";
-  if (max_scans < 0 || max_scans == 1) e << "max_scans must be 0 or >= 2 (got " << max_scans << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .nested("rip", rip.validate())
+      .require(cfear_k >= 1, "cfear_k", ">= 1", cfear_k)
+      .require(cfear_z_min >= 0.0 && cfear_z_min <= 255.0, "cfear_z_min", "in [0, 255]", cfear_z_min)
+      .require(max_scans == 0 || max_scans >= 2, "max_scans", "0 or >= 2", max_scans)
+      .str();
 }
 
 RadarFeatures kStrongestPoints(const PolarScan& scan, int k, double z_min, double min_range,

@@ -1,5 +1,7 @@
 #include "coral_introspection/core/perturbation.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -18,18 +20,14 @@ PerturbationConfig PerturbationConfig::lidarProtocol() {
 }
 
 std::string PerturbationConfig::validate() const {
-  std::ostringstream e;
-  if (translations.empty() && rotations.empty())
-    e << "translations and rotations are both empty: no misaligned samples; ";
-  for (double t : translations)
-    if (!(t > 0.0 && std::isfinite(t))) e << "translations must be > 0 m (got " << t << "); ";
-  for (double r : rotations)
-    if (!(r > 0.0 && r < M_PI)) e << "rotations must be in (0, pi) rad (got " << r << "); ";
-  if (!(combined_yaw >= 0.0 && combined_yaw < M_PI))
-    e << "combined_yaw must be in [0, pi) rad (got " << combined_yaw << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  Problems p;
+  p.require(!(translations.empty() && rotations.empty()),
+            "translations and rotations are both empty: no misaligned samples");
+  for (double t : translations) p.require(t > 0.0 && std::isfinite(t), "translations", "> 0 m", t);
+  for (double r : rotations) p.require(r > 0.0 && r < M_PI, "rotations", "in (0, pi) rad", r);
+  return p.require(combined_yaw >= 0.0 && combined_yaw < M_PI, "combined_yaw", "in [0, pi) rad",
+                   combined_yaw)
+      .str();
 }
 
 std::string groupLabel(double translation_m, double yaw_rad) {

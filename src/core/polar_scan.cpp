@@ -1,5 +1,7 @@
 #include "coral_introspection/core/polar_scan.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
@@ -13,10 +15,6 @@ constexpr int kOxfordCols = 3779;
 constexpr int kOxfordMeta = 11;  // 8 stamp + 2 encoder + 1 valid flag
 constexpr double kOxfordEncoderSize = 5600.0;
 
-bool fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-  return false;
-}
 
 std::string typeName(const cv::Mat& m) {
   std::ostringstream s;
@@ -48,18 +46,14 @@ PolarImageConfig PolarImageConfig::mulranCir204() {
 }
 
 std::string PolarImageConfig::validate() const {
-  std::ostringstream s;
-  if (!(range_resolution > 0.0 && range_resolution < 10.0))
-    s << "range_resolution = " << range_resolution << " must be in (0, 10) m per bin";
-  else if (first_data_column < 0)
-    s << "first_data_column = " << first_data_column << " must be >= 0";
-  else if (num_azimuths < 0)
-    s << "num_azimuths = " << num_azimuths << " must be >= 0 (0 = any)";
-  else if (!std::isfinite(azimuth_offset_rad))
-    s << "azimuth_offset_rad = " << azimuth_offset_rad << " must be finite";
-  else if (!(scan_period >= 0.0 && scan_period < 10.0))
-    s << "scan_period = " << scan_period << " must be in [0, 10) s";
-  return s.str();
+  return Problems()
+      .require(range_resolution > 0.0 && range_resolution < 10.0, "range_resolution",
+               "in (0, 10) m per bin", range_resolution)
+      .require(first_data_column >= 0, "first_data_column", ">= 0", first_data_column)
+      .require(num_azimuths >= 0, "num_azimuths", ">= 0 (0 = any)", num_azimuths)
+      .require(std::isfinite(azimuth_offset_rad), "azimuth_offset_rad", "finite", azimuth_offset_rad)
+      .require(scan_period >= 0.0 && scan_period < 10.0, "scan_period", "in [0, 10) s", scan_period)
+      .str();
 }
 
 bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {

@@ -1,22 +1,20 @@
 #include "coral_introspection/core/probabilistic_association.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
-#include <sstream>
 
 namespace coral_introspection {
 namespace core {
 
 std::string ProbabilisticAssociationConfig::validate() const {
-  std::ostringstream e;
-  if (dimension != 2 && dimension != 3) e << "dimension must be 2 or 3 (got " << dimension << "); ";
-  if (!(gate_sigma > 0.0)) e << "gate_sigma must be > 0 (got " << gate_sigma << "); ";
-  if (!(max_search_radius > 0.0))
-    e << "max_search_radius must be > 0 m (got " << max_search_radius << "); ";
-  if (!(min_variance > 0.0)) e << "min_variance must be > 0 m^2 (got " << min_variance << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
+      .require(gate_sigma > 0.0, "gate_sigma", "> 0", gate_sigma)
+      .require(max_search_radius > 0.0, "max_search_radius", "> 0 m", max_search_radius)
+      .require(min_variance > 0.0, "min_variance", "> 0 m^2", min_variance)
+      .str();
 }
 
 namespace {

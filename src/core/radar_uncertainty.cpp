@@ -1,8 +1,9 @@
 #include "coral_introspection/core/radar_uncertainty.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 namespace coral_introspection {
 namespace core {
@@ -25,16 +26,13 @@ RadarNoiseConfig RadarNoiseConfig::tiAwr1843() { return fromLargestErrors(0.044,
 RadarNoiseConfig RadarNoiseConfig::vodZfFrgen21() { return fromLargestErrors(0.2, 1.5, 1.5); }
 
 std::string RadarNoiseConfig::validate() const {
-  std::ostringstream e;
-  if (!(sigma_range > 0.0 && sigma_range < 10.0))
-    e << "sigma_range must be in (0, 10) m (got " << sigma_range << "); ";
-  if (!(sigma_azimuth > 0.0 && sigma_azimuth < M_PI / 2))
-    e << "sigma_azimuth must be in (0, pi/2) rad (got " << sigma_azimuth << "); ";
-  if (!(sigma_elevation >= 0.0 && sigma_elevation < M_PI / 2))
-    e << "sigma_elevation must be in [0, pi/2) rad (got " << sigma_elevation << "); ";
-  std::string s = e.str();
-  if (!s.empty()) s.resize(s.size() - 2);
-  return s;
+  return Problems()
+      .require(sigma_range > 0.0 && sigma_range < 10.0, "sigma_range", "in (0, 10) m", sigma_range)
+      .require(sigma_azimuth > 0.0 && sigma_azimuth < M_PI / 2, "sigma_azimuth",
+               "in (0, pi/2) rad", sigma_azimuth)
+      .require(sigma_elevation >= 0.0 && sigma_elevation < M_PI / 2, "sigma_elevation",
+               "in [0, pi/2) rad", sigma_elevation)
+      .str();
 }
 
 Mat3 polarJacobian(const Vec3& p) {

@@ -1,9 +1,10 @@
 #include "coral_introspection/core/rip_features.hpp"
 
+#include "coral_introspection/core/validation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <sstream>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -12,10 +13,6 @@ namespace coral_introspection {
 namespace core {
 
 namespace {
-bool fail(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-  return false;
-}
 
 // Candidate keys order bins by strength: intensity in the high bits, then the bin index
 // inverted so that on equal intensity the lower bin is "stronger". No indirection is
@@ -61,18 +58,14 @@ inline int binAt(const uint8_t* row, int cols, int n) {
 }  // namespace
 
 std::string RipConfig::validate() const {
-  std::ostringstream s;
-  if (k < 1 || k > 100000)
-    s << "k = " << k << " must be in [1, 100000]";
-  else if (!(z_min >= 0.0 && z_min <= 255.0))
-    s << "z_min = " << z_min << " must be in [0, 255]";
-  else if (window < 0 || window > 100)
-    s << "window = " << window << " must be in [0, 100] bins";
-  else if (!(min_range >= 0.0 && std::isfinite(min_range)))
-    s << "min_range = " << min_range << " must be finite and >= 0 m";
-  else if (!(max_range > min_range))
-    s << "max_range = " << max_range << " must be > min_range = " << min_range << " m";
-  return s.str();
+  return Problems()
+      .require(k >= 1 && k <= 100000, "k", "in [1, 100000]", k)
+      .require(z_min >= 0.0 && z_min <= 255.0, "z_min", "in [0, 255]", z_min)
+      .require(window >= 0 && window <= 100, "window", "in [0, 100] bins", window)
+      .require(min_range >= 0.0 && std::isfinite(min_range), "min_range", "finite and >= 0 m",
+               min_range)
+      .require(max_range > min_range, "max_range", "> min_range", max_range)
+      .str();
 }
 
 void kStrongest(const uint8_t* row, int first_bin, int end_bin, int k, double z_min,

@@ -189,7 +189,7 @@ TEST(RipFeatures, BadConfigOrScanGivesError) {
   RipConfig cfg;
   EXPECT_EQ(cfg.validate(), "");
   cfg.k = 0;
-  EXPECT_NE(cfg.validate().find("k = 0"), std::string::npos);
+  EXPECT_NE(cfg.validate().find("k must be in [1, 100000] (got 0)"), std::string::npos);
   cfg = RipConfig();
   cfg.z_min = -1;
   EXPECT_NE(cfg.validate().find("z_min"), std::string::npos);

@@ -14,16 +14,29 @@ class Problems {
   template <class T>
   Problems& require(bool ok, const char* field, const char* rule, const T& value) {
     if (!ok) {
-      if (!msg_.empty()) msg_ += "; ";
       std::ostringstream s;
       s << field << " must be " << rule << " (got " << value << ")";
-      msg_ += s.str();
+      append(s.str());
     }
+    return *this;
+  }
+  // A free-form message when !ok.
+  Problems& require(bool ok, const std::string& message) {
+    if (!ok) append(message);
+    return *this;
+  }
+  // Messages of a nested config's validate(), prefixed "prefix: " (nothing when empty).
+  Problems& nested(const char* prefix, const std::string& messages) {
+    if (!messages.empty()) append(std::string(prefix) + ": " + messages);
     return *this;
   }
   const std::string& str() const { return msg_; }
 
  private:
+  void append(const std::string& m) {
+    if (!msg_.empty()) msg_ += "; ";
+    msg_ += m;
+  }
   std::string msg_;
 };
 
