@@ -28,6 +28,16 @@ std::string CoralConfig::validate() const {
       .str();
 }
 
+CoralConfig CoralConfig::radarPaper() {
+  CoralConfig c;
+  c.dimension = 2;
+  c.radius = 1.0;  // r_min = r_max = 1 m
+  c.dynamic_radius = false;
+  c.epsilon = 0.0;
+  c.e_reject = 0.0;
+  return c;
+}
+
 double dynamicRadius(const CoralConfig& cfg, double distance) {
   if (!cfg.dynamic_radius) return cfg.radius;
   const double r = distance * std::sin(cfg.alpha_deg * M_PI / 180.0);  // Sec. III-C (2)

@@ -9,10 +9,7 @@ namespace core {
 
 FeatureConfig FeatureConfig::radar() {
   FeatureConfig c;
-  c.coral.dimension = 2;
-  c.coral.radius = 1.0;  // r_min = r_max = 1 m (Sec. V-A c)
-  c.coral.e_reject = 0.0;
-  c.coral.epsilon = 0.0;
+  c.coral = CoralConfig::radarPaper();  // Sec. V-A c
   c.coral.per_point = false;
   c.ndt.dimension = 2;
   c.ndt.voxel_size = 2.0;  // v = 2 r (Sec. IV-1 d)

@@ -5,7 +5,7 @@
 //
 // Sources (~mode):
 //   lidar_3d / lidar_2d: a simulated drive through core::SyntheticScene::structuredYard()
-//     (core::simulateScan, 16 rings or one ring), PointCloud2 on `scan`, frame `lidar`.
+//     (core::simulateScan, 32 rings or one ring), PointCloud2 on `scan`, frame `lidar`.
 //   oxford: real radar. The Oxford Radar RobotCar folder ~oxford_folder is converted with
 //     writeOxfordBag (what the oxford_to_bag tool runs), or an existing ~bag is used; its
 //     /radar/polar images are replayed on `polar_image` with its ground-truth TF.

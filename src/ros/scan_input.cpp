@@ -58,18 +58,7 @@ bool imageToSensorScan(const sensor_msgs::Image& image, const NodeConfig& cfg, S
 bool twistBetween(const Eigen::Isometry3d& T_fixed_prev, const Eigen::Isometry3d& T_fixed_curr,
                   double dt, core::Twist* twist) {
   if (!(dt > 0.0)) return false;
-  const Eigen::Isometry3d T = T_fixed_prev.inverse() * T_fixed_curr;
-  const Eigen::AngleAxisd aa(T.rotation());
-  const core::Vec3 w = aa.angle() * aa.axis();
-  const double th = aa.angle();
-  core::Mat3 W;
-  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
-  // SE(3) log: rho = V^-1 t with V^-1 = I - W/2 + c W^2 (c -> 1/12 as theta -> 0).
-  const double c =
-      th < 1e-6 ? 1.0 / 12.0 : (1.0 - th * std::sin(th) / (2.0 * (1.0 - std::cos(th)))) / (th * th);
-  const core::Mat3 V_inv = core::Mat3::Identity() - 0.5 * W + c * W * W;
-  twist->linear = V_inv * T.translation() / dt;
-  twist->angular = w / dt;
+  *twist = core::twistFromRelativePose(T_fixed_prev.inverse() * T_fixed_curr, dt);  // SE(3) log
   return true;
 }
 

@@ -65,11 +65,7 @@ int main(int argc, char** argv) {
   for (const auto& p : ds.png_paths) images.push_back(cv::imread(p, cv::IMREAD_UNCHANGED));
 
   const RipConfig rip;  // k = 12, z_min = 70, w = 2, min range 2.5 m
-  CoralConfig coral;    // paper Sec. V-A radar settings
-  coral.dimension = 2;
-  coral.radius = 1.0;
-  coral.epsilon = 0.0;
-  coral.e_reject = 0.0;
+  const CoralConfig coral = CoralConfig::radarPaper();
   const std::size_t n = images.size();
   std::vector<RadarFeatures> feats(n);
   std::vector<double> t_extract, t_comp, t_coral;

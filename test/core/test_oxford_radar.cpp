@@ -46,14 +46,7 @@ double matchFraction(const Points& a, const Points& b, const Eigen::Isometry3d& 
   return b.empty() ? 0.0 : static_cast<double>(hit) / b.size();
 }
 
-CoralConfig radarCoral() {  // paper Sec. V-A: r = 1 m fixed, epsilon 0, E_reject 0, 2D
-  CoralConfig c;
-  c.dimension = 2;
-  c.radius = 1.0;
-  c.epsilon = 0.0;
-  c.e_reject = 0.0;
-  return c;
-}
+CoralConfig radarCoral() { return CoralConfig::radarPaper(); }  // Sec. V-A
 }  // namespace
 
 TEST(OxfordRadar, DatasetLoadsWithGroundTruth) {

@@ -20,11 +20,7 @@
 namespace ra = coral_introspection::ros_adapters;
 namespace core = coral_introspection::core;
 
-namespace {
-std::string tempBag(const std::string& name) {
-  return ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid()) + ".bag";
-}
-}  // namespace
+static std::string tempBag(const std::string& name) { return coral_test::tempPath(name, ".bag"); }
 
 TEST(OxfordToBag, ImagesAndGroundTruthTfRoundTrip) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");

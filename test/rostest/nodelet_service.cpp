@@ -69,6 +69,31 @@ TEST(CheckAlignment, PolarImagesCorrectVsOffsetTransform) {
   EXPECT_FALSE(srv.response.result.aligned) << "Q = " << srv.response.result.quality;
 }
 
+TEST(CheckAlignment, TrainedClassifierFileIsUsedAsIs) {
+  // The nodelet in /trained loaded config/classifier_radar_oxford.yaml (coral_train's
+  // output) on top of the radar preset: its verdicts must follow Eq. 9 with those betas.
+  double b0 = 0, b1 = 0, b2 = 0, th = 0;
+  ASSERT_TRUE(ros::param::get("/trained/coral/classifier/beta0", b0));
+  ASSERT_TRUE(ros::param::get("/trained/coral/classifier/beta1", b1));
+  ASSERT_TRUE(ros::param::get("/trained/coral/classifier/beta2", b2));
+  ASSERT_TRUE(ros::param::get("/trained/coral/classifier/threshold", th));
+  double preset_b0 = 0;
+  ASSERT_TRUE(ros::param::get("/radar/coral/classifier/beta0", preset_b0));
+  ASSERT_NE(b0, preset_b0);  // the file really overrides the preset
+  CheckAlignment srv;
+  srv.request.image_a = polarImage([](double) { return T_world_a; }, 0.0, ros::Time(10.0), "radar");
+  srv.request.image_b = polarImage([](double) { return T_world_b; }, 0.0, ros::Time(11.0), "radar");
+  for (const Eigen::Isometry3d& T : {T_a_b, T_a_b_wrong}) {
+    srv.request.transform_a_b = ros_adapters::toTransformMsg(T);
+    ASSERT_TRUE(call("/trained/check_alignment", srv));
+    const auto& r = srv.response.result;
+    ASSERT_TRUE(r.valid);
+    const double p = 1.0 / (1.0 + std::exp(-(b0 + b1 * r.h_joint + b2 * r.h_sep)));  // Eq. 9
+    EXPECT_NEAR(r.probability, p, 1e-9);
+    EXPECT_EQ(r.aligned, p >= th);  // Eq. 10
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -21,7 +21,7 @@ namespace ra = coral_introspection::ros_adapters;
 TEST(OxfordBagPlay, RosbagPlayDeliversImagesAndTf) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   const std::string bag =
-      ::testing::TempDir() + "/oxford_play_" + std::to_string(getpid()) + ".bag";
+      coral_test::tempPath("oxford_play", ".bag");
   std::string err;
   ASSERT_TRUE(ra::writeOxfordBag(coral_data, bag, ra::OxfordBagOptions(), nullptr, &err)) << err;
   coral_introspection::core::OxfordDataset ds;

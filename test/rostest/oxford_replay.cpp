@@ -145,7 +145,7 @@ TEST(OxfordReplay, GroundTruthAlignedAndStepErrorsFlagged) {
   // 1. Convert with the package's converter (what `rosrun coral_introspection oxford_to_bag`
   // runs): /radar/polar raw Oxford images + /tf odom->radar from the ground truth.
   const std::string bag_path =
-      ::testing::TempDir() + "/coral_oxford_replay_" + std::to_string(getpid()) + ".bag";
+      coral_test::tempPath("coral_oxford_replay", ".bag");
   std::string error;
   ra::OxfordBagSummary summary;
   ASSERT_TRUE(ra::writeOxfordBag(coral_data, bag_path, ra::OxfordBagOptions(), &summary, &error))

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <string>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace coral_test {
 
@@ -21,6 +22,11 @@ inline std::string dataDir() {
   if (is_dir(guess)) return guess;
 #endif
   return "";
+}
+
+// A per-process path in gtest's temp dir, e.g. tempPath("oxford", ".bag").
+inline std::string tempPath(const std::string& name, const std::string& ext) {
+  return ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid()) + ext;
 }
 
 }  // namespace coral_test

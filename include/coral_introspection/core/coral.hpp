@@ -30,6 +30,9 @@ struct CoralConfig {
   double min_overlap = 0.05;    // below this fraction of overlapping points: no verdict
   bool per_point = true;        // fill CoralResult::per_point (q_k, Eq. 6)
 
+  // CorAl-Radar settings of Sec. V-A c: 2D, r = 1 m fixed, epsilon = 0, E_reject = 0.
+  static CoralConfig radarPaper();
+
   // Empty string when valid, otherwise a message naming the bad field and its range.
   std::string validate() const;
   // Largest radius any point can use (grid cell size).
