@@ -52,15 +52,19 @@ TEST(Manager, TwoInstancesRunAndUnloadCleanly) {
   ros::WallDuration(1.0).sleep();  // TF connections
   std::mt19937 rng(9);
   const ros::Time base = ros::Time::now();
-  for (int i = 0; i < 4; ++i) {
-    const double t = 0.1 * i;
-    const ros::Time stamp = base + ros::Duration(t);
-    sendTf(br, trajectory(t), stamp, "lidar");
-    ros::WallDuration(0.03).sleep();
-    pub1.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
-    pub2.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
-    ros::WallDuration(0.1).sleep();
-  }
+  // Scans [from, to) of the trajectory to both nodelets, each after its TF.
+  auto publishScans = [&](int from, int to) {
+    for (int i = from; i < to; ++i) {
+      const double t = 0.1 * i;
+      const ros::Time stamp = base + ros::Duration(t);
+      sendTf(br, trajectory(t), stamp, "lidar");
+      ros::WallDuration(0.03).sleep();
+      pub1.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
+      pub2.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
+      ros::WallDuration(0.1).sleep();
+    }
+  };
+  publishScans(0, 4);
   ASSERT_TRUE(first.waitFor(3, 15.0));
   ASSERT_TRUE(second.waitFor(3, 15.0));
   for (const auto& m : first.all()) EXPECT_TRUE(m.aligned);
@@ -75,15 +79,7 @@ TEST(Manager, TwoInstancesRunAndUnloadCleanly) {
   EXPECT_FALSE(topicHasPublisher("/first/alignment"));
   EXPECT_EQ(loaded(), std::vector<std::string>{"/second/coral"});
   const std::size_t before = second.size();
-  for (int i = 4; i < 6; ++i) {
-    const double t = 0.1 * i;
-    const ros::Time stamp = base + ros::Duration(t);
-    sendTf(br, trajectory(t), stamp, "lidar");
-    ros::WallDuration(0.03).sleep();
-    pub1.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
-    pub2.publish(lidarCloud(trajectory(t), stamp, "lidar", rng, 1));
-    ros::WallDuration(0.1).sleep();
-  }
+  publishScans(4, 6);
   EXPECT_TRUE(second.waitFor(before + 2, 15.0));
 
   un.request.name = "/second/coral";
