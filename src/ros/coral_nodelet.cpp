@@ -110,7 +110,7 @@ void CoralNodelet::onInit() {
 // Input is subscribed only while someone listens to an output (lazy, like
 // pointcloud_to_laserscan); the pairing restarts after a gap in subscribers.
 void CoralNodelet::connectCb() {
-  try {
+  guarded("connect callback", [&] {
     std::lock_guard<std::mutex> lock(connect_mutex_);
     const bool wanted = alignment_pub_.getNumSubscribers() + quality_pub_.getNumSubscribers() +
                             features_pub_.getNumSubscribers() +
@@ -132,36 +132,38 @@ void CoralNodelet::connectCb() {
       recent_twists_.clear();
     }
     subscribed_ = wanted;
-  } catch (const std::exception& e) {
-    NODELET_ERROR_THROTTLE(5.0, "connect callback failed: %s", e.what());
-  }
+  });
 }
 
 void CoralNodelet::reconfigureCb(ReconfigureConfig& rc, uint32_t) {
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  ros_adapters::NodeConfig c = config_;
-  c.classifier.threshold = rc.classifier_threshold;
-  c.coral.radius = rc.coral_radius;
-  c.coral.min_overlap = rc.coral_min_overlap;
-  c.publish_quality_cloud = rc.publish_quality_cloud;
-  c.publish_features = rc.publish_features;
-  const std::string err = c.validate();
-  if (!err.empty()) {
-    NODELET_WARN("dynamic_reconfigure change rejected: %s", err.c_str());
-    return;
-  }
-  config_ = c;
+  guarded("dynamic_reconfigure callback", [&] {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    ros_adapters::NodeConfig c = config_;
+    c.classifier.threshold = rc.classifier_threshold;
+    c.coral.radius = rc.coral_radius;
+    c.coral.min_overlap = rc.coral_min_overlap;
+    c.publish_quality_cloud = rc.publish_quality_cloud;
+    c.publish_features = rc.publish_features;
+    const std::string err = c.validate();
+    if (!err.empty()) {
+      NODELET_WARN("dynamic_reconfigure change rejected: %s", err.c_str());
+      return;
+    }
+    config_ = c;
+  });
 }
 
 void CoralNodelet::arrivedCb(const std_msgs::Header& header) {
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  ++counters_.received;
-  pending_.emplace(std::make_pair(header.frame_id, header.stamp), ros::WallTime::now());
+  guarded("arrival callback", [&] {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    ++counters_.received;
+    pending_.emplace(std::make_pair(header.frame_id, header.stamp), ros::WallTime::now());
+  });
 }
 
 void CoralNodelet::tfFailureCb(const std_msgs::Header& header,
                                tf2_ros::FilterFailureReason reason) {
-  try {
+  guarded("TF failure callback", [&] {
     std::lock_guard<std::mutex> lock(state_mutex_);
     // A scan that already timed out in timerCb was counted there.
     if (pending_.erase(std::make_pair(header.frame_id, header.stamp)) == 0) return;
@@ -179,8 +181,7 @@ void CoralNodelet::tfFailureCb(const std_msgs::Header& header,
     }
     last_error_ = e.str();
     NODELET_WARN_THROTTLE(5.0, "scan dropped: %s", last_error_.c_str());
-  } catch (...) {
-  }
+  });
 }
 
 void CoralNodelet::badInput(const std::string& what, const std::string& error) {
@@ -190,7 +191,7 @@ void CoralNodelet::badInput(const std::string& what, const std::string& error) {
 }
 
 void CoralNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg) {
-  try {
+  guarded("cloud callback", [&] {
     std::lock_guard<std::mutex> lock(state_mutex_);
     pending_.erase(std::make_pair(msg->header.frame_id, msg->header.stamp));
     ros_adapters::SensorScan scan;
@@ -209,17 +210,11 @@ void CoralNodelet::cloudCb(const sensor_msgs::PointCloud2ConstPtr& msg) {
       return;
     }
     processScan(msg->header, scan);
-  } catch (const std::exception& e) {
-    ++counters_.errors;
-    NODELET_ERROR_THROTTLE(5.0, "cloud callback failed: %s", e.what());
-  } catch (...) {
-    ++counters_.errors;
-    NODELET_ERROR_THROTTLE(5.0, "cloud callback failed (unknown exception)");
-  }
+  });
 }
 
 void CoralNodelet::imageCb(const sensor_msgs::ImageConstPtr& msg) {
-  try {
+  guarded("image callback", [&] {
     std::lock_guard<std::mutex> lock(state_mutex_);
     pending_.erase(std::make_pair(msg->header.frame_id, msg->header.stamp));
     ros_adapters::SensorScan scan;
@@ -234,13 +229,7 @@ void CoralNodelet::imageCb(const sensor_msgs::ImageConstPtr& msg) {
       return;
     }
     processScan(msg->header, scan);
-  } catch (const std::exception& e) {
-    ++counters_.errors;
-    NODELET_ERROR_THROTTLE(5.0, "image callback failed: %s", e.what());
-  } catch (...) {
-    ++counters_.errors;
-    NODELET_ERROR_THROTTLE(5.0, "image callback failed (unknown exception)");
-  }
+  });
 }
 
 // Called with state_mutex_ held.
@@ -380,7 +369,8 @@ void CoralNodelet::checkDoppler(const std_msgs::Header& header,
 }
 
 bool CoralNodelet::checkAlignment(CheckAlignment::Request& req, CheckAlignment::Response& res) {
-  try {
+  bool answered = false;  // false fails the call: malformed request or internal error
+  guarded("check_alignment", [&] {
     ros_adapters::NodeConfig cfg;
     {
       std::lock_guard<std::mutex> lock(state_mutex_);
@@ -398,7 +388,7 @@ bool CoralNodelet::checkAlignment(CheckAlignment::Request& req, CheckAlignment::
     if (!ok) {
       std::lock_guard<std::mutex> lock(state_mutex_);
       badInput("check_alignment request", error);
-      return false;
+      return;
     }
     core::Scan a, b;
     a.points = std::move(sa.features.points);
@@ -413,17 +403,13 @@ bool CoralNodelet::checkAlignment(CheckAlignment::Request& req, CheckAlignment::
     res.result =
         ros_adapters::toMessage(result, verdict, header, header.stamp,
                                 clouds ? req.cloud_b.header.stamp : req.image_b.header.stamp);
-    return true;
-  } catch (const std::exception& e) {
-    NODELET_ERROR_THROTTLE(5.0, "check_alignment failed: %s", e.what());
-  } catch (...) {
-    NODELET_ERROR_THROTTLE(5.0, "check_alignment failed (unknown exception)");
-  }
-  return false;
+    answered = true;
+  });
+  return answered;
 }
 
 void CoralNodelet::timerCb(const ros::WallTimerEvent&) {
-  try {
+  guarded("diagnostics timer", [&] {
     {
       std::lock_guard<std::mutex> lock(state_mutex_);
       const ros::WallTime now = ros::WallTime::now();
@@ -443,9 +429,7 @@ void CoralNodelet::timerCb(const ros::WallTimerEvent&) {
       }
     }
     updater_->force_update();
-  } catch (const std::exception& e) {
-    NODELET_ERROR_THROTTLE(5.0, "diagnostics timer failed: %s", e.what());
-  }
+  });
 }
 
 void CoralNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {

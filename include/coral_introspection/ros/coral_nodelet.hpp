@@ -52,6 +52,30 @@ class CoralNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override;
+
+  // Runs f(); an exception of any kind is logged (throttled) and counted in the diagnostics
+  // instead of escaping: an exception out of a callback would kill every nodelet in the
+  // manager. The counter is taken under state_mutex_, after f's own locks were released.
+  template <class F>
+  void guarded(const char* what, F&& f) noexcept {
+    try {
+      std::string error;
+      try {
+        f();
+        return;
+      } catch (const std::exception& e) {
+        error = e.what();
+      } catch (...) {
+        error = "unknown exception";
+      }
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      ++counters_.errors;
+      last_error_ = std::string(what) + " failed: " + error;
+      NODELET_ERROR_THROTTLE(5.0, "%s", last_error_.c_str());
+    } catch (...) {  // logging itself failed (out of memory): nothing sensible left to do
+    }
+  }
+
   void connectCb();
   void reconfigureCb(ReconfigureConfig& config, uint32_t level);
 
