@@ -1,20 +1,42 @@
-# The ROS-free core library: every src/core/*.cpp. Included by the catkin build and by the
-# plain-CMake core-only build (-DCORAL_CORE_ONLY=ON), so the core never needs ROS.
+# The ROS-free libraries, one per concern. Included by the catkin build and by the plain
+# CMake core-only build (-DCORAL_CORE_ONLY=ON), so none of them ever needs ROS.
+# Dependencies point one way only (DESIGN.md):
+#   online -> radar -> coral        eval -> radar -> coral        (eval: tools and tests only)
 find_package(Eigen3 REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 
-file(GLOB CORAL_CORE_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/core/*.cpp)
-add_library(coral_introspection_core STATIC ${CORAL_CORE_SOURCES})
-set_target_properties(coral_introspection_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
-target_include_directories(coral_introspection_core PUBLIC ${PROJECT_SOURCE_DIR}/include)
-# Third-party headers as SYSTEM so -Wall -Wextra reports only our own code.
-target_include_directories(coral_introspection_core SYSTEM PUBLIC
-  ${EIGEN3_INCLUDE_DIR} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(coral_introspection_core PUBLIC ${OpenCV_LIBS})
-target_compile_options(coral_introspection_core PRIVATE -Wall -Wextra)
+set(CORAL_WARNINGS -Wall -Wextra)
+
+# coral_add_library(<name> <dir> DEPS <targets...>): a static, position-independent library
+# from src/<dir>/*.cpp (linked into the nodelet plugin, hence PIC).
+function(coral_add_library name dir)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${dir}/*.cpp)
+  add_library(${name} STATIC ${srcs})
+  set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>)
+  target_link_libraries(${name} PUBLIC ${ARG_DEPS})
+  target_compile_options(${name} PRIVATE ${CORAL_WARNINGS})
+endfunction()
+
+coral_add_library(coral_introspection_coral coral)
+# Third-party headers as SYSTEM so the warning flags report only our own code.
+target_include_directories(coral_introspection_coral SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
+coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral ${OpenCV_LIBS})
+target_include_directories(coral_introspection_radar SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
+coral_add_library(coral_introspection_online online DEPS coral_introspection_radar)
+coral_add_library(coral_introspection_eval eval DEPS coral_introspection_radar)
+
+set(CORAL_CORE_LIBRARIES coral_introspection_coral coral_introspection_radar
+    coral_introspection_online)
 
 # Tests find ../shared/data next to the real (symlink-resolved) source tree, or
 # $CORAL_DATA_DIR; the support header skips with a message when neither exists.
 get_filename_component(CORAL_REAL_SOURCE_DIR ${PROJECT_SOURCE_DIR} REALPATH)
 set(CORAL_TEST_DEFINITIONS CORAL_SOURCE_DIR="${CORAL_REAL_SOURCE_DIR}")
-file(GLOB CORAL_CORE_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/test/core/test_*.cpp)
+# ROS-free gtests: test/<library>/test_*.cpp; each links its library and, for fixtures and
+# datasets, eval.
+file(GLOB CORAL_CORE_TESTS CONFIGURE_DEPENDS
+     ${PROJECT_SOURCE_DIR}/test/coral/test_*.cpp ${PROJECT_SOURCE_DIR}/test/radar/test_*.cpp
+     ${PROJECT_SOURCE_DIR}/test/online/test_*.cpp ${PROJECT_SOURCE_DIR}/test/eval/test_*.cpp)
+set(CORAL_CORE_TEST_LIBRARIES coral_introspection_online coral_introspection_eval)

@@ -40,9 +40,9 @@
 #include <vector>
 
 #include "coral_introspection/AlignmentQuality.h"
-#include "coral_introspection/core/synthetic.hpp"
+#include "coral_introspection/eval/synthetic.hpp"
 #include "coral_introspection/ros/conversions.hpp"
-#include "coral_introspection/ros/oxford_bag_writer.hpp"
+#include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
 namespace core = coral_introspection::core;
 namespace ros_adapters = coral_introspection::ros_adapters;

@@ -6,14 +6,14 @@
 #include <algorithm>
 #include <sstream>
 
-#include "coral_introspection/core/classifier.hpp"
-#include "coral_introspection/core/coral.hpp"
+#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
 namespace coral_introspection {
 
+using online::PairAction;
 using ros_adapters::InputType;
-using ros_adapters::PairAction;
 
 CoralNodelet::~CoralNodelet() {
   // Disconnect inputs before the filters they feed are destroyed.

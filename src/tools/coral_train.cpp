@@ -10,16 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/core/oxford_training.hpp"
-#include "coral_introspection/core/training_run.hpp"
-#include "coral_introspection/ros/bag_training_reader.hpp"
+#include "coral_introspection/eval/oxford_training.hpp"
+#include "coral_introspection/eval/training_run.hpp"
+#include "coral_introspection/ros_eval/bag_training_reader.hpp"
 
 using namespace coral_introspection::core;
 namespace ros_adapters = coral_introspection::ros_adapters;
 
 namespace {
 
-const char* kUsage = R"(Usage: rosrun coral_introspection coral_train (--oxford DIR | --bag FILE) [options]
+const char* kUsage =
+    R"(Usage: rosrun coral_introspection coral_train (--oxford DIR | --bag FILE) [options]
 
 Builds aligned scan pairs from accurate poses, induces misalignments in the sensor frame of
 the later scan (T_a_b' = T_a_b * Delta), computes CorAl, CorAl-median, MME, NDT, Rel-NDT and
@@ -99,7 +100,8 @@ bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
   const Progress bar = [](std::size_t d, std::size_t t) { progressBar("scans", d, t); };
   if (!in.oxford.empty()) {
     OxfordDataset ds;
-    if (!ds.load(in.oxford, &err) || !loadOxfordTrainingScans(ds, ocfg, bar, &scans, &poses, &err)) {
+    if (!ds.load(in.oxford, &err) ||
+        !loadOxfordTrainingScans(ds, ocfg, bar, &scans, &poses, &err)) {
       std::cerr << "coral_train: " << err << "\n";
       return false;
     }
@@ -109,15 +111,16 @@ bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
       std::cerr << "\ncoral_train: " << err << "\n";
       return false;
     }
-    std::cerr << "\n" << in.bag << ": " << scans.size() << " scans with a pose of "
-              << sum.scan_messages << " (" << sum.no_pose << " without pose, " << sum.bad_message
-              << " malformed" << (sum.first_error.empty() ? "" : "; first: " + sum.first_error)
-              << ")\n";
+    std::cerr << "\n"
+              << in.bag << ": " << scans.size() << " scans with a pose of " << sum.scan_messages
+              << " (" << sum.no_pose << " without pose, " << sum.bad_message << " malformed"
+              << (sum.first_error.empty() ? "" : "; first: " + sum.first_error) << ")\n";
   }
   *n_scans = scans.size();
   const std::vector<ScanPair> pairs = makePairs(poses, spacing);
-  if (!buildSampleSet(scans, pairs, perts, fcfg,
-                      [](std::size_t d, std::size_t t) { progressBar("samples", d, t); }, set, &err)) {
+  if (!buildSampleSet(
+          scans, pairs, perts, fcfg,
+          [](std::size_t d, std::size_t t) { progressBar("samples", d, t); }, set, &err)) {
     std::cerr << "coral_train: " << err << "\n";
     return false;
   }
@@ -128,7 +131,8 @@ bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
 
 int main(int argc, char** argv) {
   std::map<std::string, std::string> opt;
-  const std::vector<std::string> flags = {"--no_cfear", "--no_motion_compensation", "--no_csv", "--help"};
+  const std::vector<std::string> flags = {"--no_cfear", "--no_motion_compensation", "--no_csv",
+                                          "--help"};
   std::string command = "rosrun coral_introspection coral_train";
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -153,12 +157,32 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return 0;
   }
-  const std::vector<std::string> known = {
-      "--oxford", "--bag", "--scan_topic", "--odom_topic", "--fixed_frame", "--test_oxford",
-      "--test_bag", "--sensor", "--max_scans", "--spacing", "--magnitudes", "--rotations",
-      "--combined_yaw", "--radius", "--k", "--z_min", "--window", "--min_range", "--cfear_z_min",
-      "--cfear_resolution", "--folds", "--ridge", "--threshold", "--classifier_method",
-      "--classifier_group", "--output"};
+  const std::vector<std::string> known = {"--oxford",
+                                          "--bag",
+                                          "--scan_topic",
+                                          "--odom_topic",
+                                          "--fixed_frame",
+                                          "--test_oxford",
+                                          "--test_bag",
+                                          "--sensor",
+                                          "--max_scans",
+                                          "--spacing",
+                                          "--magnitudes",
+                                          "--rotations",
+                                          "--combined_yaw",
+                                          "--radius",
+                                          "--k",
+                                          "--z_min",
+                                          "--window",
+                                          "--min_range",
+                                          "--cfear_z_min",
+                                          "--cfear_resolution",
+                                          "--folds",
+                                          "--ridge",
+                                          "--threshold",
+                                          "--classifier_method",
+                                          "--classifier_group",
+                                          "--output"};
   for (const auto& kv : opt)
     if (std::find(known.begin(), known.end(), kv.first) == known.end() &&
         std::find(flags.begin(), flags.end(), kv.first) == flags.end()) {
@@ -177,15 +201,19 @@ int main(int argc, char** argv) {
     const bool tt = !test_in.oxford.empty() || !test_in.bag.empty();
     // Radar defaults for an Oxford folder or a bag whose scan topic carries polar images.
     const bool images = !train_in.bag.empty() &&
-        ros_adapters::bagTopicType(train_in.bag, get("--scan_topic", "/scan")) == "sensor_msgs/Image";
-    const std::string sensor = get("--sensor", train_in.oxford.empty() && !images ? "lidar3d" : "radar");
+                        ros_adapters::bagTopicType(train_in.bag, get("--scan_topic", "/scan")) ==
+                            "sensor_msgs/Image";
+    const std::string sensor =
+        get("--sensor", train_in.oxford.empty() && !images ? "lidar3d" : "radar");
     if (sensor != "radar" && sensor != "lidar3d" && sensor != "lidar2d") {
-      std::cerr << "coral_train: --sensor must be radar, lidar3d or lidar2d (got " << sensor << ")\n";
+      std::cerr << "coral_train: --sensor must be radar, lidar3d or lidar2d (got " << sensor
+                << ")\n";
       return 2;
     }
     const bool radar = sensor == "radar";
     // Defaults per sensor: Sec. V-A (radar) and Sec. IV (lidar) of the paper.
-    PerturbationConfig pcfg = radar ? PerturbationConfig::radarProtocol() : PerturbationConfig::lidarProtocol();
+    PerturbationConfig pcfg =
+        radar ? PerturbationConfig::radarProtocol() : PerturbationConfig::lidarProtocol();
     if (opt.count("--magnitudes")) pcfg.translations = parseList(opt["--magnitudes"]);
     pcfg.rotations = parseList(get("--rotations", ""));
     if (opt.count("--combined_yaw")) pcfg.combined_yaw = std::stod(opt["--combined_yaw"]);
@@ -226,9 +254,9 @@ int main(int argc, char** argv) {
     rcfg.classifier_method = get("--classifier_method", "CorAl");
     rcfg.classifier_group = get("--classifier_group", "");
     rcfg.write_csv = !opt.count("--no_csv");
-    for (const std::string& e : {pcfg.validate(), fcfg.validate(), ocfg.validate(),
-                                 train_in.bag.empty() ? std::string() : bcfg.validate(),
-                                 rcfg.validate()})
+    for (const std::string& e :
+         {pcfg.validate(), fcfg.validate(), ocfg.validate(),
+          train_in.bag.empty() ? std::string() : bcfg.validate(), rcfg.validate()})
       if (!e.empty()) {
         std::cerr << "coral_train: invalid configuration: " << e << "\n";
         return 2;
@@ -248,27 +276,41 @@ int main(int argc, char** argv) {
       << (spacing > 0 ? ", spacing >= " + std::to_string(spacing) + " m" : ", consecutive") << ")";
     if (tt) d << "; test: " << name(test_in) << " (" << n_test << " scans)";
     std::ostringstream st;
-    st << "Settings: sensor " << sensor << "; CorAl " << fcfg.coral.dimension << "D r = "
-       << fcfg.coral.radius << " m, E_reject = " << fcfg.coral.e_reject << ", epsilon = "
-       << fcfg.coral.epsilon << "; NDT v = " << fcfg.ndt.voxel_size << " m";
+    st << "Settings: sensor " << sensor << "; CorAl " << fcfg.coral.dimension
+       << "D r = " << fcfg.coral.radius << " m, E_reject = " << fcfg.coral.e_reject
+       << ", epsilon = " << fcfg.coral.epsilon << "; NDT v = " << fcfg.ndt.voxel_size << " m";
     if (radar)
-      st << "; RIP k = " << ocfg.rip.k << ", z_min = " << ocfg.rip.z_min << ", w = " << ocfg.rip.window
-         << ", min range " << ocfg.rip.min_range << " m; CFEAR z_min = " << ocfg.cfear_z_min
-         << ", r = " << fcfg.cfear.resolution << " m; motion compensation "
-         << (ocfg.motion_compensation ? "on" : "off");
+      st << "; RIP k = " << ocfg.rip.k << ", z_min = " << ocfg.rip.z_min
+         << ", w = " << ocfg.rip.window << ", min range " << ocfg.rip.min_range
+         << " m; CFEAR z_min = " << ocfg.cfear_z_min << ", r = " << fcfg.cfear.resolution
+         << " m; motion compensation " << (ocfg.motion_compensation ? "on" : "off");
     st << "; logistic regression with balanced class weights, ridge "
-       << rcfg.evaluation.regression.ridge << ", t_h = " << rcfg.evaluation.regression.threshold << ".";
-    rcfg.report_header = {"# coral_train report", "", "Command (run from the repository root):", "",
-                          "```", command, "```", "", d.str(), "", st.str()};
+       << rcfg.evaluation.regression.ridge << ", t_h = " << rcfg.evaluation.regression.threshold
+       << ".";
+    rcfg.report_header = {"# coral_train report",
+                          "",
+                          "Command (run from the repository root):",
+                          "",
+                          "```",
+                          command,
+                          "```",
+                          "",
+                          d.str(),
+                          "",
+                          st.str()};
     rcfg.provenance = {"command: " + command, d.str(), st.str()};
     if (radar)  // the published figures these rows correspond to, for an honest comparison
       rcfg.report_footer = {
-          "", "## Paper reference (Table II, full Oxford sequences, consecutive scans)", "",
-          "| Method | 0.3 m | 0.5 m | 0.7 m |", "|---|---|---|---|",
+          "",
+          "## Paper reference (Table II, full Oxford sequences, consecutive scans)",
+          "",
+          "| Method | 0.3 m | 0.5 m | 0.7 m |",
+          "|---|---|---|---|",
           "| CFEAR-P2P | 0.59/0.61 | 0.69/0.77 | 0.85/0.95 |",
           "| CFEAR-P2L | 0.66/0.77 | 0.89/0.95 | 0.97/0.99 |",
           "| CFEAR-P2D | 0.57/0.66 | 0.76/0.85 | 0.89/0.96 |",
-          "| CorAl | 0.91/0.98 | 0.97/1.00 | 0.99/1.00 |", "",
+          "| CorAl | 0.91/0.98 | 0.97/1.00 | 0.99/1.00 |",
+          "",
           "The paper's figures rest on thousands of pairs from four Oxford sequences; the rows "
           "above rest on the pairs counted in the detailed table (one held-out fold holds "
           "about pairs / folds of them), so one misclassified sample moves a cell by several "
@@ -280,7 +322,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::cout << res.report << "\nWrote " << rcfg.output_dir
-              << "/{classifier.yaml, report.md, roc.png" << (rcfg.write_csv ? ", samples.csv" : "") << "}\n";
+              << "/{classifier.yaml, report.md, roc.png" << (rcfg.write_csv ? ", samples.csv" : "")
+              << "}\n";
   } catch (const std::exception& e) {  // std::stod on a malformed number
     std::cerr << "coral_train: bad option value: " << e.what() << "\n";
     return 2;

@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/core/coral.hpp"
-#include "coral_introspection/core/motion_compensation.hpp"
-#include "coral_introspection/core/oxford_dataset.hpp"
-#include "coral_introspection/core/polar_scan.hpp"
-#include "coral_introspection/core/rip_features.hpp"
+#include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/eval/oxford_dataset.hpp"
+#include "coral_introspection/radar/motion_compensation.hpp"
+#include "coral_introspection/radar/polar_scan.hpp"
+#include "coral_introspection/radar/rip_features.hpp"
 
 using namespace coral_introspection::core;
 using Clock = std::chrono::steady_clock;

@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <random>
 
-#include "coral_introspection/core/classifier.hpp"
-#include "coral_introspection/core/coral.hpp"
-#include "coral_introspection/core/synthetic.hpp"
+#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/eval/synthetic.hpp"
 
 using namespace coral_introspection::core;
 
@@ -40,10 +40,9 @@ int main() {
   for (const Case& c : cases) {
     const CoralResult r = computeCoral(a_w, transformScan(b, T_w_b * c.delta), cfg);
     const Verdict v = classify(clf, r.h_joint, r.h_sep);
-    std::printf("%-24s %9.4f %9.4f %8.4f %8.2f %6.3f  %s  (%.1f ms)\n", c.name, r.h_joint,
-                r.h_sep, r.quality, r.overlap, v.probability,
-                !r.valid ? "NO VERDICT" : (v.aligned ? "aligned" : "MISALIGNED"),
-                r.seconds * 1e3);
+    std::printf("%-24s %9.4f %9.4f %8.4f %8.2f %6.3f  %s  (%.1f ms)\n", c.name, r.h_joint, r.h_sep,
+                r.quality, r.overlap, v.probability,
+                !r.valid ? "NO VERDICT" : (v.aligned ? "aligned" : "MISALIGNED"), r.seconds * 1e3);
   }
   return 0;
 }

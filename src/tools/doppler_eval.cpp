@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/core/doppler.hpp"
-#include "coral_introspection/core/doppler_simulation.hpp"
-#include "coral_introspection/core/radar_uncertainty.hpp"
+#include "coral_introspection/eval/doppler_simulation.hpp"
+#include "coral_introspection/radar/doppler.hpp"
+#include "coral_introspection/radar/radar_uncertainty.hpp"
 
 using namespace coral_introspection::core;
 

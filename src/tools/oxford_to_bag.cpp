@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string>
 
-#include "coral_introspection/ros/oxford_bag_writer.hpp"
+#include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
 

@@ -4,7 +4,7 @@
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
-#include "coral_introspection/core/motion_compensation.hpp"
+#include "coral_introspection/radar/motion_compensation.hpp"
 #include "coral_introspection/ros/scan_input.hpp"
 
 using namespace coral_introspection;

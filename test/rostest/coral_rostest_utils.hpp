@@ -17,8 +17,8 @@
 #include <random>
 
 #include "coral_introspection/AlignmentQuality.h"
-#include "coral_introspection/core/motion_compensation.hpp"
-#include "coral_introspection/core/synthetic.hpp"
+#include "coral_introspection/eval/synthetic.hpp"
+#include "coral_introspection/radar/motion_compensation.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
 namespace coral_test {

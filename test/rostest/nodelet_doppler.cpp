@@ -7,7 +7,7 @@
 #include <map>
 
 #include "coral_introspection/VelocityConsistency.h"
-#include "coral_introspection/core/doppler_simulation.hpp"
+#include "coral_introspection/eval/doppler_simulation.hpp"
 
 using namespace coral_test;
 using coral_introspection::VelocityConsistency;
@@ -34,10 +34,9 @@ sensor_msgs::PointCloud2 dopplerCloud(const core::DopplerSimScan& s, const ros::
   c.header.stamp = stamp;
   c.header.frame_id = kFrame;
   sensor_msgs::PointCloud2Modifier mod(c);
-  mod.setPointCloud2Fields(4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
-                           sensor_msgs::PointField::FLOAT32, "z", 1,
-                           sensor_msgs::PointField::FLOAT32, "velocity", 1,
-                           sensor_msgs::PointField::FLOAT32);
+  mod.setPointCloud2Fields(
+      4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
+      sensor_msgs::PointField::FLOAT32, "velocity", 1, sensor_msgs::PointField::FLOAT32);
   mod.resize(s.points.size());
   sensor_msgs::PointCloud2Iterator<float> it(c, "x"), v(c, "velocity");
   for (std::size_t i = 0; i < s.points.size(); ++i, ++it, ++v) {
@@ -143,9 +142,10 @@ TEST_F(Doppler, ConsistentTfAcceptedSpeedErrorFlaggedMissingFieldSkipped) {
     EXPECT_GT(m.inlier_ratio, 0.6) << "scan " << i;  // 80 % static points
     EXPECT_EQ(m.chi2 <= m.threshold, static_cast<bool>(m.consistent)) << "scan " << i;
   }
-  ROS_INFO("(a) consistent TF: %zu messages, %d valid && consistent, %d with |v_D - v| < 0.1, "
-           "|v_D - v| mean %.4f max %.4f m/s",
-           good.size(), ok, close, good.empty() ? 0.0 : sum_err / good.size(), max_err);
+  ROS_INFO(
+      "(a) consistent TF: %zu messages, %d valid && consistent, %d with |v_D - v| < 0.1, "
+      "|v_D - v| mean %.4f max %.4f m/s",
+      good.size(), ok, close, good.empty() ? 0.0 : sum_err / good.size(), max_err);
   EXPECT_GE(ok, 0.9 * (n - 1)) << good.size() << " messages";
   EXPECT_GE(close, 0.9 * (n - 1)) << good.size() << " messages";
   EXPECT_LT(sum_err, 0.05 * (n - 1));  // mean 3D error below 5 cm/s
@@ -164,9 +164,10 @@ TEST_F(Doppler, ConsistentTfAcceptedSpeedErrorFlaggedMissingFieldSkipped) {
     EXPECT_LT(dopplerError(m).head<2>().norm(), 0.1) << "scan " << i;
     max_fast_err = std::max(max_fast_err, err);
   }
-  ROS_INFO("(b) TF 0.5 m/s fast: %zu messages, %d valid && !consistent, min chi2/threshold "
-           "%.1f, max |v_D - v| %.4f m/s",
-           fast.size(), flagged, min_chi2, max_fast_err);
+  ROS_INFO(
+      "(b) TF 0.5 m/s fast: %zu messages, %d valid && !consistent, min chi2/threshold "
+      "%.1f, max |v_D - v| %.4f m/s",
+      fast.size(), flagged, min_chi2, max_fast_err);
   EXPECT_GE(flagged, 0.9 * (n - 1)) << fast.size() << " messages";
 
   // (c) Scan 3 has no velocity field: no message for it, no crash, scan 4 (velocity
@@ -179,10 +180,11 @@ TEST_F(Doppler, ConsistentTfAcceptedSpeedErrorFlaggedMissingFieldSkipped) {
   EXPECT_TRUE(mixed[missing + 1].consistent) << "chi2 = " << mixed[missing + 1].chi2;
   EXPECT_NEAR(mixed[missing + 1].velocity_odometry.x, 3.0, 1e-3);
   EXPECT_GE(mixed.size(), static_cast<std::size_t>(n_c - 2 - 1));  // allow one dropped scan
-  ROS_INFO("(c) no velocity field on scan %d: messages for %zu of %d scans, next scan valid %d "
-           "consistent %d chi2 %.2f",
-           missing, mixed.size(), n_c, mixed[missing + 1].valid, mixed[missing + 1].consistent,
-           mixed[missing + 1].chi2);
+  ROS_INFO(
+      "(c) no velocity field on scan %d: messages for %zu of %d scans, next scan valid %d "
+      "consistent %d chi2 %.2f",
+      missing, mixed.size(), n_c, mixed[missing + 1].valid, mixed[missing + 1].consistent,
+      mixed[missing + 1].chi2);
 }
 
 }  // namespace

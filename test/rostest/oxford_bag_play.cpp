@@ -11,17 +11,16 @@
 #include <mutex>
 #include <vector>
 
-#include "coral_introspection/core/oxford_dataset.hpp"
+#include "coral_introspection/eval/oxford_dataset.hpp"
 #include "coral_introspection/ros/conversions.hpp"
-#include "coral_introspection/ros/oxford_bag_writer.hpp"
+#include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
 
 TEST(OxfordBagPlay, RosbagPlayDeliversImagesAndTf) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
-  const std::string bag =
-      coral_test::tempPath("oxford_play", ".bag");
+  const std::string bag = coral_test::tempPath("oxford_play", ".bag");
   std::string err;
   ASSERT_TRUE(ra::writeOxfordBag(coral_data, bag, ra::OxfordBagOptions(), nullptr, &err)) << err;
   coral_introspection::core::OxfordDataset ds;

@@ -23,7 +23,7 @@
 
 #include "coral_introspection/AlignmentQuality.h"
 #include "coral_introspection/ros/conversions.hpp"
-#include "coral_introspection/ros/oxford_bag_writer.hpp"
+#include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
@@ -144,8 +144,7 @@ TEST(OxfordReplay, GroundTruthAlignedAndStepErrorsFlagged) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   // 1. Convert with the package's converter (what `rosrun coral_introspection oxford_to_bag`
   // runs): /radar/polar raw Oxford images + /tf odom->radar from the ground truth.
-  const std::string bag_path =
-      coral_test::tempPath("coral_oxford_replay", ".bag");
+  const std::string bag_path = coral_test::tempPath("coral_oxford_replay", ".bag");
   std::string error;
   ra::OxfordBagSummary summary;
   ASSERT_TRUE(ra::writeOxfordBag(coral_data, bag_path, ra::OxfordBagOptions(), &summary, &error))

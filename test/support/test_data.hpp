@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <string>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <cstdlib>
+#include <string>
 
 namespace coral_test {
 
@@ -32,8 +32,8 @@ inline std::string tempPath(const std::string& name, const std::string& ext) {
 }  // namespace coral_test
 
 // Skips the current test (with the reason in the output) when the data set is missing.
-#define CORAL_REQUIRE_DATA(subdir)                                                      \
-  const std::string coral_data_root = coral_test::dataDir();                            \
-  if (coral_data_root.empty())                                                          \
-    GTEST_SKIP() << "real data not found: set CORAL_DATA_DIR or place ../shared/data";  \
+#define CORAL_REQUIRE_DATA(subdir)                                                     \
+  const std::string coral_data_root = coral_test::dataDir();                           \
+  if (coral_data_root.empty())                                                         \
+    GTEST_SKIP() << "real data not found: set CORAL_DATA_DIR or place ../shared/data"; \
   const std::string coral_data = coral_data_root + "/" subdir

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "coral_introspection/AlignmentQuality.h"
-#include "coral_introspection/core/classifier.hpp"
-#include "coral_introspection/core/coral.hpp"
-#include "coral_introspection/core/types.hpp"
+#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {

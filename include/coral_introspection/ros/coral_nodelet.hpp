@@ -22,7 +22,7 @@
 #include "coral_introspection/CheckAlignment.h"
 #include "coral_introspection/CoralConfig.h"
 #include "coral_introspection/VelocityConsistency.h"
-#include "coral_introspection/ros/pairing.hpp"
+#include "coral_introspection/online/pairing.hpp"
 #include "coral_introspection/ros/params.hpp"
 #include "coral_introspection/ros/scan_input.hpp"
 
@@ -96,7 +96,7 @@ class CoralNodelet : public nodelet::Nodelet {
 
   ros_adapters::NodeConfig config_;  // guarded by state_mutex_ after onInit
   std::mutex state_mutex_;           // config_, pairing_, reference_, counters_
-  ros_adapters::ScanPairing pairing_;
+  online::ScanPairing pairing_;
   std::optional<PosedScan> reference_;
   std::optional<PosedScan> previous_;       // last scan with a pose (velocity for de-skewing)
   std::vector<core::Twist> recent_twists_;  // last <= 3 inter-scan velocities (de-skewing)

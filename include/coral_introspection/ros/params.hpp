@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/core/classifier.hpp"
-#include "coral_introspection/core/coral.hpp"
-#include "coral_introspection/core/doppler.hpp"
-#include "coral_introspection/core/polar_scan.hpp"
-#include "coral_introspection/core/rip_features.hpp"
-#include "coral_introspection/ros/pairing.hpp"
+#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/online/pairing.hpp"
+#include "coral_introspection/radar/doppler.hpp"
+#include "coral_introspection/radar/polar_scan.hpp"
+#include "coral_introspection/radar/rip_features.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {
@@ -32,7 +32,7 @@ struct NodeConfig {
   std::string fixed_frame = "odom";
   int queue_size = 10;      // scans waiting for TF in the message filter
   double tf_timeout = 1.0;  // [s] wall time a scan may wait for TF before it counts as failed
-  PairingConfig pairing;
+  online::PairingConfig pairing;
   core::CoralConfig coral;
   core::ClassifierConfig classifier;
   PolarFormat polar_format = PolarFormat::kOxford;

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/core/motion_compensation.hpp"
-#include "coral_introspection/core/rip_features.hpp"
+#include "coral_introspection/radar/motion_compensation.hpp"
+#include "coral_introspection/radar/rip_features.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/params.hpp"
 

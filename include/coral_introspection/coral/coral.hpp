@@ -1,0 +1,108 @@
+// CorAl alignment quality of two point clouds already in one frame
+// (paper: coral_radar_lidar_introspection, Sec. III-B and III-C).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "coral_introspection/coral/entropy.hpp"
+#include "coral_introspection/coral/types.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+enum class Aggregation { kMean, kMedian };  // CorAl vs CorAl-median (Sec. IV-1c)
+
+// Every CorAl default lives here. Units: metres, degrees, nats.
+struct CoralConfig {
+  int dimension = 3;             // 2 (radar, 2D lidar) or 3
+  double radius = 0.3;           // [m] fixed neighbourhood radius r
+  bool dynamic_radius = false;   // Sec. III-C (2): r = d sin(alpha) clamped to [r_min, r_max]
+  double r_min = 0.3;            // [m]
+  double r_max = 0.7;            // [m]
+  double alpha_deg = 1.33;       // [deg] angular (vertical) resolution of the sensor
+  double epsilon = 1e-8;         // Sec. III-C (1): determinant floor [m^2N], 0 disables
+                                 // (1e-8: the paper's lidar value, Fig. 6c)
+  double e_reject = 0.0;         // Sec. III-C (3): fraction of lowest H_sep points dropped
+  int min_neighbours = 4;        // own-cloud points within r (query point included)
+  int min_neighbours_other = 2;  // other-cloud points within r for the point to overlap
+  Aggregation aggregation = Aggregation::kMean;
+  double min_overlap = 0.05;  // below this fraction of overlapping points: no verdict
+  bool per_point = true;      // fill CoralResult::per_point (q_k, Eq. 6)
+
+  // CorAl-Radar settings of Sec. V-A c: 2D, r = 1 m fixed, epsilon = 0, E_reject = 0.
+  static CoralConfig radarPaper();
+
+  // Empty string when valid, otherwise a message naming the bad field and its range.
+  std::string validate() const;
+  // Largest radius any point can use (grid cell size).
+  double maxRadius() const { return dynamic_radius ? r_max : radius; }
+};
+
+struct PointEntropy {
+  float h_sep = 0.f;    // h_i(p_k) in its own cloud [nats] (Eq. 1)
+  float h_joint = 0.f;  // h_j(p_k) in the joint cloud [nats]
+  float radius = 0.f;   // neighbourhood radius used [m]
+  bool valid = false;   // entered H_sep / H_joint (overlap, finite entropies, not rejected)
+  float q() const { return h_joint - h_sep; }  // Eq. 6
+};
+
+struct CoralResult {
+  bool valid = false;    // enough overlap and at least one valid point
+  double h_joint = 0.0;  // Eq. 3 restricted to valid points [nats]
+  double h_sep = 0.0;    // Eq. 4 restricted to valid points [nats]
+  double quality = 0.0;  // Q = H_joint - H_sep (Eq. 5)
+  double mme = 0.0;      // mean joint entropy over every point with enough joint
+                         // neighbours, no overlap requirement (MME baseline, Sec. IV-1a)
+  double overlap = 0.0;  // fraction of finite points overlapping the other cloud
+  std::size_t num_points_a = 0, num_points_b = 0;  // finite input points
+  std::size_t num_overlap = 0;   // points with enough neighbours in own and other cloud
+  std::size_t num_valid = 0;     // points aggregated (after E_reject)
+  std::size_t num_rejected = 0;  // removed by E_reject
+  double seconds = 0.0;          // wall time of computeCoral
+  // Per finite point: scan a first, then scan b (order of the finite input points).
+  std::vector<PointEntropy> per_point;
+};
+
+// Dynamic radius of Sec. III-C (2) for a point at distance d from its own sensor.
+double dynamicRadius(const CoralConfig& cfg, double distance);
+
+// CorAl for scans a and b, both expressed in one common frame (origins too). Non-finite
+// points are ignored. Never throws on bad data; an unusable pair gives valid == false
+// with finite zero aggregates. Precondition: cfg.validate() is empty.
+CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg);
+
+// Building blocks shared by CorAl variants whose neighbourhoods differ (e.g. the
+// covariance-shaped one in coral_uncertainty.hpp).
+//
+// Eq. 1 and 6 for one point from the moments of its neighbours in its own cloud and in the
+// other cloud (both centred on the point). Every point with enough joint neighbours feeds
+// the MME; it counts as overlapping only with min_neighbours in its own and
+// min_neighbours_other in the other cloud, and is valid when both entropies are finite.
+template <class M>
+void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe,
+                std::vector<double>* mme_terms, std::size_t* num_overlap) {
+  M joint = own;
+  joint += other;
+  double h_joint = 0.0, h_sep = 0.0;
+  const bool joint_ok =
+      joint.n >= cfg.min_neighbours &&
+      differentialEntropy(joint.covariance(), cfg.dimension, cfg.epsilon, &h_joint);
+  if (joint_ok) mme_terms->push_back(h_joint);
+  if (own.n < cfg.min_neighbours || other.n < cfg.min_neighbours_other) return;
+  ++*num_overlap;
+  if (joint_ok && differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep)) {
+    pe->h_sep = static_cast<float>(h_sep);
+    pe->h_joint = static_cast<float>(h_joint);
+    pe->valid = true;
+  }
+}
+
+// E_reject (Sec. III-C (3)), H_sep / H_joint / Q (Eq. 3-5, mean or median), MME, overlap
+// and validity from the per-point entropies (scan a's points first). Expects
+// res->num_points_a/b and res->num_overlap set; fills the rest except `seconds`.
+void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point,
+                   std::vector<double> mme_terms, CoralResult* res);
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,39 @@
+// Output files of the training / evaluation tool: per-sample CSV, classifier YAML that the
+// nodelet loads as-is, a Table II-shaped markdown report and ROC curves as a PNG.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/eval/evaluation.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+// One line per sample: pair, stamps, offset, dx, dy, dyaw, group, label, then every
+// method's features as <method>/<feature>. Returns false with *error if unwritable.
+bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string* error);
+
+// classifier: {beta0, beta1, beta2, threshold} -- the nodelet's private parameters
+// ~classifier/beta0 ... ~classifier/threshold, so `rosparam load file ~` or
+// <rosparam file=.../> inside the nodelet works as-is. `comments` become leading # lines
+// (training provenance).
+std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments);
+bool writeClassifierYaml(const std::string& path, const ClassifierConfig& c,
+                         const std::vector<std::string>& comments, std::string* error);
+
+// Markdown: a Table II-shaped "accuracy/AUC" table (methods x groups) followed by a
+// detailed table with balanced and plain accuracy, AUC and the counts behind them.
+std::string markdownTables(const std::vector<EvaluationRow>& rows,
+                           const std::vector<std::string>& groups);
+
+// ROC curves (held-out scores), one panel per group, one colour per method, AUC in the
+// legend. Drawn with OpenCV; false with *error when cv::imwrite fails.
+bool writeRocPng(const std::string& path, const std::vector<EvaluationRow>& rows,
+                 const std::vector<std::string>& groups, std::string* error);
+
+bool writeTextFile(const std::string& path, const std::string& text, std::string* error);
+
+}  // namespace core
+}  // namespace coral_introspection

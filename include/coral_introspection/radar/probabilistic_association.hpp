@@ -1,0 +1,60 @@
+// Probability-guided point association (paper: radar_point_uncertainty_slam, Sec. III-D,
+// Eq. 13-14): a measured point p_k with covariance Sigma_k (Eq. 8) is paired with the
+// candidate landmark of highest Gaussian density N(l; p_k, Sigma_k), not with the
+// Euclidean-nearest one, and only if it lies within the 3-sigma gate.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/coral/neighbour_grid.hpp"
+#include "coral_introspection/coral/types.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+struct ProbabilisticAssociationConfig {
+  int dimension = 2;               // 2 (spinning radar, x-y only) or 3
+  double gate_sigma = 3.0;         // Mahalanobis gate: sqrt(m^2) <= gate_sigma (3-sigma rule)
+  double max_search_radius = 3.0;  // [m] Euclidean cap of the candidate search
+  double min_variance = 1e-6;      // [m^2] eigenvalue floor so Sigma_k stays invertible
+  std::string validate() const;    // empty when valid
+};
+
+struct ProbabilisticMatch {
+  int target = -1;  // index into the landmarks, -1 = none within the gate
+  double mahalanobis2 = std::numeric_limits<double>::infinity();  // (l - p)^T Sigma^-1 (l - p)
+  double log_density = -std::numeric_limits<double>::infinity();  // ln P_k(l) (Eq. 13)
+};
+
+// ln N(x; mean, sigma) over the first dim coordinates (Eq. 13), eigenvalues floored at
+// min_variance. *mahalanobis2 (optional) receives (x - mean)^T sigma^-1 (x - mean).
+double gaussianLogDensity(const Vec3& x, const Vec3& mean, const Mat3& sigma, int dim,
+                          double min_variance, double* mahalanobis2 = nullptr);
+
+// Landmarks indexed once, queried per measured point. Landmarks and queries share a frame;
+// Sigma must be expressed in that frame (transformScan rotates covariances).
+class ProbabilisticMatcher {
+ public:
+  // Precondition: cfg.validate() is empty. Non-finite landmarks are never matched.
+  ProbabilisticMatcher(const Points& landmarks, const ProbabilisticAssociationConfig& cfg);
+  // Eq. 14: argmax over landmarks within the gate of P_k(l); target -1 when none.
+  ProbabilisticMatch match(const Vec3& p, const Mat3& sigma) const;
+
+ private:
+  ProbabilisticAssociationConfig cfg_;
+  std::vector<uint32_t> original_;  // landmark index of each finite (gridded) landmark
+  NeighbourGrid grid_;
+};
+
+// Convenience: one match per query (queries[i] with covariances[i]). Returns an empty
+// vector and sets *error on a size mismatch or invalid config; never throws.
+std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
+                                                       const Covariances& covariances,
+                                                       const Points& landmarks,
+                                                       const ProbabilisticAssociationConfig& cfg,
+                                                       std::string* error);
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,42 @@
+#include "coral_introspection/coral/types.hpp"
+
+#include <cmath>
+
+namespace coral_introspection {
+namespace core {
+
+Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src) {
+  Scan out;
+  out.points.reserve(scan.points.size());
+  for (const Vec3& p : scan.points) out.points.push_back(T_dst_src * p);
+  out.origin = T_dst_src * scan.origin;
+  const Mat3 R = T_dst_src.linear();
+  out.covariances.reserve(scan.covariances.size());
+  for (const Mat3& S : scan.covariances) out.covariances.push_back(R * S * R.transpose());
+  return out;
+}
+
+std::size_t removeNonFinite(Scan& scan) {
+  const bool with_cov = scan.covariances.size() == scan.points.size();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    if (!scan.points[i].allFinite()) continue;
+    scan.points[kept] = scan.points[i];
+    if (with_cov) scan.covariances[kept] = scan.covariances[i];
+    ++kept;
+  }
+  const std::size_t removed = scan.points.size() - kept;
+  scan.points.resize(kept);
+  if (with_cov) scan.covariances.resize(kept);
+  return removed;
+}
+
+Eigen::Isometry3d se2(double x, double y, double yaw) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();
+  T.translation() = Vec3(x, y, 0.0);
+  return T;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

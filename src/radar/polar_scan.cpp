@@ -1,0 +1,142 @@
+#include "coral_introspection/radar/polar_scan.hpp"
+
+#include "coral_introspection/coral/validation.hpp"
+
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+namespace coral_introspection {
+namespace core {
+
+namespace {
+constexpr int kOxfordRows = 400;
+constexpr int kOxfordCols = 3779;
+constexpr int kOxfordMeta = 11;  // 8 stamp + 2 encoder + 1 valid flag
+constexpr double kOxfordEncoderSize = 5600.0;
+
+std::string typeName(const cv::Mat& m) {
+  std::ostringstream s;
+  s << "depth " << m.depth() << ", " << m.channels() << " channel(s)";
+  return s.str();
+}
+}  // namespace
+
+PolarImageConfig PolarImageConfig::oxfordCts350x() {
+  PolarImageConfig c;
+  c.range_resolution = 0.0432;
+  c.first_data_column = kOxfordMeta;  // also decodes the raw Oxford layout (metadata ignored)
+  c.num_azimuths = kOxfordRows;
+  c.direction = AzimuthDirection::kCounterClockwise;  // encoder angle grows with the row
+  c.azimuth_offset_rad = 0.0;
+  c.scan_period = 0.25;  // 4 Hz
+  return c;
+}
+
+PolarImageConfig PolarImageConfig::mulranCir204() {
+  PolarImageConfig c;
+  c.range_resolution = 0.0595;
+  c.first_data_column = 0;
+  c.num_azimuths = 400;
+  c.direction = AzimuthDirection::kCounterClockwise;  // same Navtech encoder convention
+  c.azimuth_offset_rad = 0.0;
+  c.scan_period = 0.25;  // 4 Hz
+  return c;
+}
+
+std::string PolarImageConfig::validate() const {
+  return Problems()
+      .require(range_resolution > 0.0 && range_resolution < 10.0, "range_resolution",
+               "in (0, 10) m per bin", range_resolution)
+      .require(first_data_column >= 0, "first_data_column", ">= 0", first_data_column)
+      .require(num_azimuths >= 0, "num_azimuths", ">= 0 (0 = any)", num_azimuths)
+      .require(std::isfinite(azimuth_offset_rad), "azimuth_offset_rad", "finite",
+               azimuth_offset_rad)
+      .require(scan_period >= 0.0 && scan_period < 10.0, "scan_period", "in [0, 10) s", scan_period)
+      .str();
+}
+
+bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {
+  if (out == nullptr) return fail(error, "decodeOxfordImage: null output");
+  if (img.empty()) return fail(error, "Oxford radar image is empty");
+  if (img.type() != CV_8UC1)
+    return fail(error,
+                "Oxford radar image must be 8-bit single channel (mono8), got " + typeName(img));
+  if (img.rows != kOxfordRows || img.cols != kOxfordCols)
+    return fail(error, "Oxford radar image must be 400 x 3779 (rows x cols), got " +
+                           std::to_string(img.rows) + " x " + std::to_string(img.cols));
+  const int n = img.rows;
+  out->azimuths.assign(n, 0.0);
+  out->stamps.assign(n, 0.0);
+  out->valid.assign(n, 0);
+  out->range_resolution = 0.0432;
+  int num_valid = 0;
+  for (int i = 0; i < n; ++i) {
+    const uint8_t* row = img.ptr<uint8_t>(i);
+    int64_t us = 0;
+    uint16_t enc = 0;
+    // Little-endian fields assembled byte by byte: independent of host order and alignment.
+    for (int b = 7; b >= 0; --b)
+      us = static_cast<int64_t>((static_cast<uint64_t>(us) << 8) | row[b]);
+    enc = static_cast<uint16_t>(row[8] | (row[9] << 8));
+    out->stamps[i] = static_cast<double>(us) * 1e-6;
+    out->azimuths[i] = enc / kOxfordEncoderSize * 2.0 * M_PI;
+    const bool ok = row[10] == 255 && enc < kOxfordEncoderSize && us > 0;
+    out->valid[i] = ok ? 1 : 0;
+    num_valid += ok ? 1 : 0;
+  }
+  if (num_valid == 0) return fail(error, "Oxford radar image has no valid row (flag 255)");
+  // Reference time = first valid azimuth (row 0 normally; equals the PNG name, the stamp GT and TF
+  // refer to).
+  int first = 0;
+  while (!out->valid[first]) ++first;
+  out->stamp = out->stamps[first];
+  // Range bins share the buffer (no copy); clone if img may be modified later.
+  out->power = img.colRange(kOxfordMeta, kOxfordCols);
+  return true;
+}
+
+bool loadOxfordScan(const std::string& png_path, PolarScan* out, std::string* error) {
+  cv::Mat img = cv::imread(png_path, cv::IMREAD_UNCHANGED);
+  if (img.empty()) return fail(error, "cannot read radar image '" + png_path + "'");
+  std::string e;
+  if (!decodeOxfordImage(img, out, &e)) return fail(error, png_path + ": " + e);
+  return true;
+}
+
+bool decodePolarImage(const cv::Mat& mono8, const PolarImageConfig& cfg, double stamp,
+                      PolarScan* out, std::string* error) {
+  if (out == nullptr) return fail(error, "decodePolarImage: null output");
+  const std::string bad = cfg.validate();
+  if (!bad.empty()) return fail(error, "invalid polar image config: " + bad);
+  if (mono8.empty()) return fail(error, "polar image is empty");
+  if (mono8.type() != CV_8UC1)
+    return fail(error, "polar image must be 8-bit single channel (mono8), got " + typeName(mono8));
+  if (cfg.num_azimuths > 0 && mono8.rows != cfg.num_azimuths)
+    return fail(error, "polar image has " + std::to_string(mono8.rows) + " rows, expected " +
+                           std::to_string(cfg.num_azimuths) + " azimuths");
+  if (mono8.cols <= cfg.first_data_column)
+    return fail(error, "polar image has " + std::to_string(mono8.cols) +
+                           " columns, not more than first_data_column = " +
+                           std::to_string(cfg.first_data_column));
+  if (!std::isfinite(stamp)) return fail(error, "polar image stamp is not finite");
+  const int n = mono8.rows;
+  const double sign = cfg.direction == AzimuthDirection::kCounterClockwise ? 1.0 : -1.0;
+  out->azimuths.resize(n);
+  out->stamps.resize(n);
+  out->valid.assign(n, 1);
+  for (int i = 0; i < n; ++i) {
+    // Eq. 8: theta = 2 pi a / N_a, rotated by the mounting offset and mirrored for cw.
+    double a = cfg.azimuth_offset_rad + sign * 2.0 * M_PI * i / n;
+    a = std::remainder(a, 2.0 * M_PI);
+    out->azimuths[i] = a;
+    out->stamps[i] = stamp + cfg.scan_period * i / n;
+  }
+  out->power = mono8.colRange(cfg.first_data_column, mono8.cols);
+  out->range_resolution = cfg.range_resolution;
+  out->stamp = stamp;
+  return true;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

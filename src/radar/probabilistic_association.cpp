@@ -1,0 +1,116 @@
+#include "coral_introspection/radar/probabilistic_association.hpp"
+
+#include "coral_introspection/coral/validation.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace coral_introspection {
+namespace core {
+
+std::string ProbabilisticAssociationConfig::validate() const {
+  return Problems()
+      .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
+      .require(gate_sigma > 0.0, "gate_sigma", "> 0", gate_sigma)
+      .require(max_search_radius > 0.0, "max_search_radius", "> 0 m", max_search_radius)
+      .require(min_variance > 0.0, "min_variance", "> 0 m^2", min_variance)
+      .str();
+}
+
+namespace {
+template <int N>
+void floorInverse(const Mat3& sigma, double min_variance, Mat3* inv, double* logdet,
+                  double* lambda_max) {
+  using MatN = Eigen::Matrix<double, N, N>;
+  Eigen::SelfAdjointEigenSolver<MatN> es;
+  es.computeDirect(sigma.topLeftCorner<N, N>());
+  const Eigen::Matrix<double, N, 1> lambda = es.eigenvalues().cwiseMax(min_variance);
+  *logdet = lambda.array().log().sum();
+  *lambda_max = lambda.maxCoeff();
+  inv->setZero();
+  inv->topLeftCorner<N, N>() =
+      es.eigenvectors() * lambda.cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+}
+
+// Inverse (zero-padded to 3 x 3) and log-determinant of the top-left dim x dim block of
+// sigma, eigenvalues floored at min_variance.
+void regularisedInverse(const Mat3& sigma, int dim, double min_variance, Mat3* inv, double* logdet,
+                        double* lambda_max) {
+  if (dim == 2)
+    floorInverse<2>(sigma, min_variance, inv, logdet, lambda_max);
+  else
+    floorInverse<3>(sigma, min_variance, inv, logdet, lambda_max);
+}
+
+Points finiteOnly(const Points& in, std::vector<uint32_t>* original) {
+  Points out;
+  for (std::size_t i = 0; i < in.size(); ++i)
+    if (in[i].allFinite()) out.push_back(in[i]), original->push_back(static_cast<uint32_t>(i));
+  return out;
+}
+}  // namespace
+
+double gaussianLogDensity(const Vec3& x, const Vec3& mean, const Mat3& sigma, int dim,
+                          double min_variance, double* mahalanobis2) {
+  Mat3 inv;
+  double logdet = 0.0, lambda_max = 0.0;
+  regularisedInverse(sigma, dim, min_variance, &inv, &logdet, &lambda_max);
+  Vec3 r = x - mean;
+  if (dim == 2) r.z() = 0.0;
+  const double m2 = r.dot(inv * r);
+  if (mahalanobis2) *mahalanobis2 = m2;
+  // Eq. 13: ln( (2 pi)^(-N/2) |Sigma|^(-1/2) exp(-m^2 / 2) ).
+  return -0.5 * (dim * std::log(2.0 * M_PI) + logdet + m2);
+}
+
+ProbabilisticMatcher::ProbabilisticMatcher(const Points& landmarks,
+                                           const ProbabilisticAssociationConfig& cfg)
+    : cfg_(cfg), grid_(finiteOnly(landmarks, &original_), cfg.max_search_radius, cfg.dimension) {}
+
+ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma) const {
+  ProbabilisticMatch best;
+  if (!p.allFinite() || !sigma.allFinite()) return best;
+  Mat3 inv;
+  double logdet = 0.0, lambda_max = 0.0;
+  regularisedInverse(sigma, cfg_.dimension, cfg_.min_variance, &inv, &logdet, &lambda_max);
+  // Every point inside the gate ellipsoid lies within gate * sqrt(lambda_max) of p.
+  const double radius = std::min(cfg_.max_search_radius, cfg_.gate_sigma * std::sqrt(lambda_max));
+  const double gate2 = cfg_.gate_sigma * cfg_.gate_sigma;
+  const double log_norm = -0.5 * (cfg_.dimension * std::log(2.0 * M_PI) + logdet);
+  grid_.forEachWithin(p, radius, [&](const Vec3& l, uint32_t idx) {
+    Vec3 r = l - p;
+    if (cfg_.dimension == 2) r.z() = 0.0;
+    const double m2 = r.dot(inv * r);
+    // Sigma_k is shared by all candidates of p_k, so the highest density (Eq. 14) is the
+    // smallest Mahalanobis distance; the 3-sigma gate removes outliers.
+    if (m2 <= gate2 && m2 < best.mahalanobis2) {
+      best.target = static_cast<int>(original_[idx]);
+      best.mahalanobis2 = m2;
+      best.log_density = log_norm - 0.5 * m2;
+    }
+  });
+  return best;
+}
+
+std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
+                                                       const Covariances& covariances,
+                                                       const Points& landmarks,
+                                                       const ProbabilisticAssociationConfig& cfg,
+                                                       std::string* error) {
+  std::string msg = cfg.validate();
+  if (msg.empty() && covariances.size() != queries.size())
+    msg = "covariances size differs from queries size";
+  if (!msg.empty()) {
+    if (error) *error = msg;
+    return {};
+  }
+  const ProbabilisticMatcher matcher(landmarks, cfg);
+  std::vector<ProbabilisticMatch> out;
+  out.reserve(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    out.push_back(matcher.match(queries[i], covariances[i]));
+  return out;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,85 @@
+// Hash-grid radius search against brute force, 2D and 3D, radii below and above the cell.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "coral_introspection/coral/neighbour_grid.hpp"
+
+using namespace coral_introspection::core;
+
+namespace {
+std::vector<uint32_t> brute(const Points& pts, const Vec3& q, double r, int dim) {
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < pts.size(); ++i) {
+    Vec3 d = pts[i] - q;
+    if (dim == 2) d.z() = 0.0;
+    if (d.squaredNorm() <= r * r) out.push_back(i);
+  }
+  return out;
+}
+}  // namespace
+
+TEST(NeighbourGrid, MatchesBruteForce) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  Points pts;
+  for (int i = 0; i < 3000; ++i) pts.emplace_back(u(rng), u(rng), 0.2 * u(rng));
+  pts.emplace_back(-1e5, 3e5, 0.0);  // far away (key wrap-around must not matter)
+  for (int dim : {2, 3}) {
+    const NeighbourGrid grid(pts, 0.5, dim);
+    EXPECT_EQ(grid.size(), pts.size());
+    for (double r : {0.1, 0.5, 1.3}) {
+      for (int k = 0; k < 100; ++k) {
+        const Vec3 q(u(rng), u(rng), 0.2 * u(rng));
+        std::vector<uint32_t> got;
+        grid.forEachWithin(q, r, [&](const Vec3& p, uint32_t i) {
+          EXPECT_EQ(p, pts[i]);
+          got.push_back(i);
+        });
+        std::sort(got.begin(), got.end());
+        ASSERT_EQ(got, brute(pts, q, r, dim)) << "dim " << dim << " r " << r;
+      }
+    }
+  }
+}
+
+TEST(NeighbourGrid, EmptyCloud) {
+  const NeighbourGrid grid(Points{}, 1.0, 3);
+  int n = 0;
+  grid.forEachWithin(Vec3::Zero(), 10.0, [&](const Vec3&, uint32_t) { ++n; });
+  EXPECT_EQ(n, 0);
+}
+
+TEST(NeighbourGrid, TwoCloudCellsSplitIntoAThenB) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  Points a, b;
+  for (int i = 0; i < 500; ++i) a.emplace_back(u(rng), u(rng), 0.0);
+  for (int i = 0; i < 400; ++i) b.emplace_back(u(rng), u(rng), 0.0);
+  const NeighbourGrid grid(a, b, 0.7, 2);
+  ASSERT_EQ(grid.size(), 900u);
+  std::size_t seen_a = 0, seen_b = 0;
+  std::vector<NeighbourGrid::Range> ranges;
+  for (std::size_t c = 0; c < grid.numCells(); ++c) {
+    const NeighbourGrid::Range r = grid.cellPoints(c);
+    const uint32_t* idx = grid.cellIndices(c);
+    for (const Vec3* p = r.begin; p != r.end; ++p, ++idx) {
+      const bool is_a = p < r.mid;
+      EXPECT_EQ(is_a, *idx < 500u);
+      EXPECT_EQ(*p, is_a ? a[*idx] : b[*idx - 500]);
+      (is_a ? seen_a : seen_b)++;
+    }
+    // The 3x3 neighbour ranges hold every point within one cell size of this cell's points.
+    grid.neighbourRanges(c, 1, &ranges);
+    std::size_t in_ranges = 0;
+    for (const auto& rg : ranges)
+      for (const Vec3* p = rg.begin; p != rg.end; ++p) in_ranges += (*p - *r.begin).norm() <= 0.7;
+    std::size_t brute_count = 0;
+    for (const Vec3& p : a) brute_count += (p - *r.begin).norm() <= 0.7;
+    for (const Vec3& p : b) brute_count += (p - *r.begin).norm() <= 0.7;
+    EXPECT_EQ(in_ranges, brute_count);
+  }
+  EXPECT_EQ(seen_a, 500u);
+  EXPECT_EQ(seen_b, 400u);
+}
