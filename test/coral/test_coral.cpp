@@ -7,7 +7,7 @@
 #include <random>
 
 #include "coral_introspection/coral/coral.hpp"
-#include "coral_introspection/eval/csv_cloud.hpp"
+#include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 #include "support/test_data.hpp"
 
