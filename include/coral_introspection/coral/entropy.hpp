@@ -14,13 +14,16 @@ template <int Dim>
 struct MomentsN {
   using V = Eigen::Matrix<double, Dim, 1>;
   double n = 0.0;
-  V sum = V::Zero();  // sum of (x - p)
-  Eigen::Matrix<double, Dim, Dim> sum2 = Eigen::Matrix<double, Dim, Dim>::Zero();
+  V sum = V::Zero();                                                               // sum of (x - p)
+  Eigen::Matrix<double, Dim, Dim> sum2 = Eigen::Matrix<double, Dim, Dim>::Zero();  // upper
 
+  // Only the upper triangle of sum2 is accumulated (bit-identical to the full product: the
+  // lower entries are the same products); covariance() mirrors it.
   void add(const V& d) {
     n += 1.0;
     sum += d;
-    sum2.noalias() += d * d.transpose();
+    for (int i = 0; i < Dim; ++i)
+      for (int j = i; j < Dim; ++j) sum2(i, j) += d(i) * d(j);
   }
   MomentsN& operator+=(const MomentsN& o) {
     n += o.n;
@@ -34,7 +37,8 @@ struct MomentsN {
   Mat3 covariance() const {
     const V mean = sum / n;
     Mat3 c = Mat3::Zero();
-    c.template topLeftCorner<Dim, Dim>() = (sum2 - n * mean * mean.transpose()) / (n - 1.0);
+    const Eigen::Matrix<double, Dim, Dim> s2 = sum2.template selfadjointView<Eigen::Upper>();
+    c.template topLeftCorner<Dim, Dim>() = (s2 - n * mean * mean.transpose()) / (n - 1.0);
     return c;
   }
 };
