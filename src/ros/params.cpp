@@ -138,6 +138,10 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("coral/min_neighbours_other", &c->coral.min_neighbours_other) &&
       r.getChoice("coral/aggregation", {"mean", "median"}, &agg) &&
       r.get("coral/min_overlap", &c->coral.min_overlap) &&
+      r.get("coral/voxel_leaf", &c->coral.voxel_leaf) &&
+      r.get("coral/max_queries", &c->coral.max_queries) &&
+      r.get("coral/query_seed", &c->coral.query_seed) &&
+      r.get("coral/threads", &c->coral.threads) &&
       r.get("classifier/beta0", &c->classifier.beta0) &&
       r.get("classifier/beta1", &c->classifier.beta1) &&
       r.get("classifier/beta2", &c->classifier.beta2) &&

@@ -128,3 +128,23 @@ TEST(Params, TyposInGroupsAreWarned) {
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("coral/raduis"), std::string::npos);
 }
+
+TEST(Params, DenseLidarKeysReachTheCoralConfig) {
+  XmlRpcValue t;
+  t["coral"]["voxel_leaf"] = 0.2;
+  t["coral"]["max_queries"] = 2000;
+  t["coral"]["query_seed"] = 7;
+  t["coral"]["threads"] = 2;
+  ros_adapters::NodeConfig c;
+  std::string err;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, &warnings)) << err;
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_DOUBLE_EQ(c.coral.voxel_leaf, 0.2);
+  EXPECT_EQ(c.coral.max_queries, 2000);
+  EXPECT_EQ(c.coral.query_seed, 7);
+  EXPECT_EQ(c.coral.threads, 2);
+  t["coral"]["threads"] = 0;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("threads"), std::string::npos) << err;
+}
