@@ -1,6 +1,7 @@
 #include "coral_introspection/coral/coral.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 #include "coral_introspection/coral/entropy.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
 #include "coral_introspection/coral/parallel.hpp"
+#include "coral_introspection/coral/point_filter.hpp"
 #include "coral_introspection/coral/validation.hpp"
 #include "coral_introspection/coral/voxel_filter.hpp"
 
@@ -34,6 +36,12 @@ std::string CoralConfig::validate() const {
                voxel_leaf)
       .require(max_queries >= 0, "max_queries", ">= 0 (0 = every point)", max_queries)
       .require(threads >= 1 && threads <= 64, "threads", "in [1, 64]", threads)
+      .require(max_abs_coordinate > 0.0, "max_abs_coordinate", "> 0 m", max_abs_coordinate)
+      .require(max_points >= 1, "max_points", ">= 1", max_points)
+      .require(merge_distance >= 0.0 && merge_distance < 1.0, "merge_distance", "in [0, 1) m",
+               merge_distance)
+      .require(max_degenerate_fraction >= 0.0 && max_degenerate_fraction <= 1.0,
+               "max_degenerate_fraction", "in [0, 1]", max_degenerate_fraction)
       .str();
 }
 
@@ -44,6 +52,9 @@ CoralConfig CoralConfig::radarPaper() {
   c.dynamic_radius = false;
   c.epsilon = 0.0;
   c.e_reject = 0.0;
+  // RIP keeps at most one peak per azimuth and range bin beyond 2.5 m: features never
+  // coincide, so the merge pass would only cost instructions.
+  c.merge_distance = 0.0;
   return c;
 }
 
@@ -54,15 +65,6 @@ double dynamicRadius(const CoralConfig& cfg, double distance) {
 }
 
 namespace {
-
-// The input itself when every point is finite (no copy), else its finite points in *storage.
-const Points& finitePoints(const Points& in, Points* storage) {
-  const auto finite = [](const Vec3& p) { return p.allFinite(); };
-  if (std::all_of(in.begin(), in.end(), finite)) return in;
-  storage->clear();
-  std::copy_if(in.begin(), in.end(), std::back_inserter(*storage), finite);
-  return *storage;
-}
 
 double median(std::vector<double>& v) {
   const std::size_t mid = v.size() / 2;
@@ -105,13 +107,18 @@ void setPoint(PointEntropy& pe, const Vec3& p, bool in_a, double radius) {
 // processed one at a time so the 3^N neighbour cells are looked up once per cell for all of
 // its points, of a and of b; out[i] belongs to original index i.
 template <int Dim>
-void scoreAll(const NeighbourGrid& grid, std::size_t num_a, const Vec3& origin_a,
-              const Vec3& origin_b, const CoralConfig& cfg, std::vector<PointEntropy>& out) {
+std::size_t scoreAll(const NeighbourGrid& grid, std::size_t num_a, const Vec3& origin_a,
+                     const Vec3& origin_b, const CoralConfig& cfg, std::vector<PointEntropy>& out) {
+  std::atomic<std::size_t> tests{0};
   parallelChunks(grid.numCells(), cfg.threads, [&](std::size_t c0, std::size_t c1) {
     std::vector<NeighbourGrid::Range> ranges;
+    std::size_t chunk_tests = 0;
     for (std::size_t c = c0; c < c1; ++c) {
       grid.neighbourRanges(c, 1, &ranges);  // every radius <= cell size
       const NeighbourGrid::Range pts = grid.cellPoints(c);
+      std::size_t candidates = 0;  // each point of the cell tests all of them
+      for (const NeighbourGrid::Range& rg : ranges) candidates += rg.end - rg.begin;
+      chunk_tests += candidates * static_cast<std::size_t>(pts.end - pts.begin);
       const uint32_t* idx = grid.cellIndices(c);
       for (const Vec3* p = pts.begin; p != pts.end; ++p, ++idx) {
         const bool in_a = *idx < num_a;
@@ -127,18 +134,22 @@ void scoreAll(const NeighbourGrid& grid, std::size_t num_a, const Vec3& origin_a
         scorePoint(m_own, m_other, cfg, &pe);
       }
     }
+    tests += chunk_tests;
   });
+  return tests;
 }
 
 // Scores the points at the given positions of the grid's sorted points; out[k] belongs to
 // queries[k]. Each query visits only the cells that intersect its own ball.
 template <int Dim>
-void scoreQueries(const NeighbourGrid& grid, const std::vector<uint32_t>& queries,
-                  std::size_t num_a, const Vec3& origin_a, const Vec3& origin_b,
-                  const CoralConfig& cfg, std::vector<PointEntropy>& out) {
+std::size_t scoreQueries(const NeighbourGrid& grid, const std::vector<uint32_t>& queries,
+                         std::size_t num_a, const Vec3& origin_a, const Vec3& origin_b,
+                         const CoralConfig& cfg, std::vector<PointEntropy>& out) {
   const Points& pts = grid.sortedPoints();
   const std::vector<uint32_t>& idx = grid.sortedIndices();
+  std::atomic<std::size_t> tests{0};
   parallelChunks(queries.size(), cfg.threads, [&](std::size_t k0, std::size_t k1) {
+    std::size_t chunk_tests = 0;
     for (std::size_t k = k0; k < k1; ++k) {
       const Vec3& p = pts[queries[k]];
       const bool in_a = idx[queries[k]] < num_a;
@@ -147,12 +158,15 @@ void scoreQueries(const NeighbourGrid& grid, const std::vector<uint32_t>& querie
       setPoint(out[k], p, in_a, radius);
       MomentsN<Dim> m_own, m_other;
       grid.forEachCellNear(p, radius, [&](const NeighbourGrid::Range& rg) {
+        chunk_tests += static_cast<std::size_t>(rg.end - rg.begin);
         addWithin(in_a ? rg.begin : rg.mid, in_a ? rg.mid : rg.end, p, r2, m_own);
         addWithin(in_a ? rg.mid : rg.begin, in_a ? rg.end : rg.mid, p, r2, m_other);
       });
       scorePoint(m_own, m_other, cfg, &out[k]);
     }
+    tests += chunk_tests;
   });
+  return tests;
 }
 
 // Stratified subset of each scan: its points in grid order (cells in order of appearance,
@@ -221,6 +235,7 @@ void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, 
     if (pe.valid) valid_idx.push_back(i);
     if (pe.joint_ok) mme_terms.push_back(pe.h_joint);
     num_overlap += pe.overlap ? 1 : 0;
+    res->num_degenerate += pe.degenerate ? 1 : 0;
   }
   const auto n_reject =
       static_cast<std::size_t>(std::floor(cfg.e_reject * static_cast<double>(valid_idx.size())));
@@ -264,25 +279,77 @@ void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, 
   res->overlap = per_point.empty()
                      ? 0.0
                      : static_cast<double>(num_overlap) / static_cast<double>(per_point.size());
-  res->valid = res->num_valid > 0 && res->overlap >= cfg.min_overlap;
+  res->valid = false;
+  if (per_point.empty())
+    res->reason = "no usable points";
+  else if (num_overlap == 0)
+    res->reason = "the scans do not overlap";
+  else if (res->overlap < cfg.min_overlap)
+    res->reason = "overlap " + std::to_string(res->overlap) + " below min_overlap " +
+                  std::to_string(cfg.min_overlap);
+  else if (res->num_valid == 0)
+    res->reason =
+        "no overlapping point has a usable covariance (coincident or degenerate "
+        "neighbourhoods)";
+  else if (static_cast<double>(res->num_degenerate) >
+           cfg.max_degenerate_fraction * static_cast<double>(num_overlap))
+    res->reason = std::to_string(res->num_degenerate) + " of " + std::to_string(num_overlap) +
+                  " overlapping neighbourhoods are degenerate (more than max_degenerate_fraction)";
+  else
+    res->valid = true;
   if (cfg.per_point) res->per_point = std::move(per_point);
 }
 
 CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
   CoralResult res;
-  Points storage[2], voxels[2];
-  const Points* clouds[2] = {&finitePoints(a.points, &storage[0]),
-                             &finitePoints(b.points, &storage[1])};
-  res.num_points_a = clouds[0]->size();
-  res.num_points_b = clouds[1]->size();
-  if (cfg.voxel_leaf > 0.0) {
+  // Input hygiene, then the voxel filter: every step counts what it removed.
+  Points storage[2], thinned[2], merged[2], voxels[2];
+  const Points* clouds[2] = {&a.points, &b.points};
+  std::size_t usable[2] = {0, 0};
+  for (int s = 0; s < 2; ++s) {
+    std::size_t non_finite = 0, out_of_range = 0;
+    clouds[s] =
+        &usablePoints(*clouds[s], cfg.max_abs_coordinate, &storage[s], &non_finite, &out_of_range);
+    res.num_non_finite += non_finite;
+    res.num_out_of_range += out_of_range;
+    usable[s] = clouds[s]->size();
+  }
+  res.num_points_a = usable[0];
+  res.num_points_b = usable[1];
+  const auto max_points = static_cast<std::size_t>(cfg.max_points);
+  if (usable[0] > max_points || usable[1] > max_points) {
+    if (cfg.refuse_over_max_points) {
+      res.reason = "a scan has " + std::to_string(std::max(usable[0], usable[1])) +
+                   " points, more than max_points " + std::to_string(max_points) + " (refused)";
+      res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return res;
+    }
+    for (int s = 0; s < 2; ++s) {
+      if (usable[s] <= max_points) continue;
+      thinned[s] = strideSubsample(*clouds[s], max_points);
+      res.num_thinned += usable[s] - max_points;
+      clouds[s] = &thinned[s];
+    }
+  }
+  // The voxel filter merges coincident points itself (one centroid per voxel).
+  const bool merge = cfg.merge_distance > 0.0 && cfg.voxel_leaf < cfg.merge_distance;
+  const bool voxel = cfg.voxel_leaf > 0.0;
+  if (merge || voxel) {
+    std::size_t removed[2] = {0, 0};
     parallelChunks(2, cfg.threads, [&](std::size_t s0, std::size_t s1) {
       for (std::size_t s = s0; s < s1; ++s) {
-        voxels[s] = voxelFilter(*clouds[s], cfg.voxel_leaf, cfg.dimension);
-        clouds[s] = &voxels[s];
+        if (merge) {
+          removed[s] = mergeCoincident(*clouds[s], cfg.merge_distance, cfg.dimension, &merged[s]);
+          clouds[s] = &merged[s];
+        }
+        if (voxel) {
+          voxels[s] = voxelFilter(*clouds[s], cfg.voxel_leaf, cfg.dimension);
+          clouds[s] = &voxels[s];
+        }
       }
     });
+    res.num_merged = removed[0] + removed[1];
   }
   const Points& pa = *clouds[0];
   const Points& pb = *clouds[1];
@@ -296,11 +363,11 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
     const std::vector<uint32_t> queries = selectQueries(grid, cfg);
     per_point.resize(queries.size());
     auto score = cfg.dimension == 2 ? scoreQueries<2> : scoreQueries<3>;
-    score(grid, queries, pa.size(), a.origin, b.origin, cfg, per_point);
+    res.num_distance_tests = score(grid, queries, pa.size(), a.origin, b.origin, cfg, per_point);
   } else {
     per_point.resize(pa.size() + pb.size());
     auto score = cfg.dimension == 2 ? scoreAll<2> : scoreAll<3>;
-    score(grid, pa.size(), a.origin, b.origin, cfg, per_point);
+    res.num_distance_tests = score(grid, pa.size(), a.origin, b.origin, cfg, per_point);
   }
   finalizeCoral(cfg, std::move(per_point), &res);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

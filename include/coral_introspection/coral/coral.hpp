@@ -39,6 +39,19 @@ struct CoralConfig {
   int query_seed = 1;  // seed of the subset: same seed and input, same subset
   int threads = 1;     // worker threads (std::thread); results do not depend on it
 
+  // Degenerate and unbounded input: named and counted, never scored.
+  double max_abs_coordinate = 1e7;  // [m] points with a larger |coordinate| are dropped
+  // [points per scan] of usable input; a larger scan is thinned by a deterministic stride
+  // (or, with refuse_over_max_points, the pair is not judged): bounds the work per pair.
+  int max_points = 1000000;
+  bool refuse_over_max_points = false;
+  // [m] points of one scan in the same cube of this edge are merged into their centroid
+  // (duplicates, no-returns at the origin); 0 = off. Below any lidar's resolution.
+  double merge_distance = 1e-3;
+  // Above this fraction of overlapping points without a usable covariance (coincident, or
+  // collinear/coplanar with epsilon = 0) the result is not valid.
+  double max_degenerate_fraction = 0.5;
+
   // CorAl-Radar settings of Sec. V-A c: 2D, r = 1 m fixed, epsilon = 0, E_reject = 0.
   static CoralConfig radarPaper();
 
@@ -50,30 +63,40 @@ struct CoralConfig {
 
 struct PointEntropy {
   Eigen::Vector3f position = Eigen::Vector3f::Zero();  // the scored point (common frame)
-  float h_sep = 0.f;      // h_i(p_k) in its own cloud [nats] (Eq. 1), when valid
-  float h_joint = 0.f;    // h_j(p_k) in the joint cloud [nats], when joint_ok
-  float radius = 0.f;     // neighbourhood radius used [m]
-  uint8_t scan = 0;       // 0: point of scan a, 1: of scan b
-  bool joint_ok = false;  // enough joint neighbours and a finite h_joint (enters the MME)
-  bool overlap = false;   // min_neighbours in its own and min_neighbours_other in the other
-  bool valid = false;     // entered H_sep / H_joint (overlap, finite entropies, not rejected)
+  float h_sep = 0.f;        // h_i(p_k) in its own cloud [nats] (Eq. 1), when valid
+  float h_joint = 0.f;      // h_j(p_k) in the joint cloud [nats], when joint_ok
+  float radius = 0.f;       // neighbourhood radius used [m]
+  uint8_t scan = 0;         // 0: point of scan a, 1: of scan b
+  bool joint_ok = false;    // enough joint neighbours and a finite h_joint (enters the MME)
+  bool overlap = false;     // min_neighbours in its own and min_neighbours_other in the other
+  bool degenerate = false;  // overlaps, but its own or joint covariance is not usable
+  bool valid = false;       // entered H_sep / H_joint (overlap, finite entropies, not rejected)
   float q() const { return h_joint - h_sep; }  // Eq. 6
 };
 
 struct CoralResult {
-  bool valid = false;    // enough overlap and at least one valid point
+  bool valid = false;    // enough overlap, valid points, not mostly degenerate (else: reason)
   double h_joint = 0.0;  // Eq. 3 restricted to valid points [nats]
   double h_sep = 0.0;    // Eq. 4 restricted to valid points [nats]
   double quality = 0.0;  // Q = H_joint - H_sep (Eq. 5)
   double mme = 0.0;      // mean joint entropy over every point with enough joint
                          // neighbours, no overlap requirement (MME baseline, Sec. IV-1a)
   double overlap = 0.0;  // fraction of scored points overlapping the other cloud
-  std::size_t num_points_a = 0, num_points_b = 0;  // finite input points
+  std::size_t num_points_a = 0, num_points_b = 0;  // usable input points (finite, in range)
   std::size_t num_used_a = 0, num_used_b = 0;      // points after the voxel filter
   std::size_t num_queries = 0;                     // points scored (all used points, or the subset)
   std::size_t num_overlap = 0;   // scored points with enough neighbours in own and other cloud
   std::size_t num_valid = 0;     // points aggregated (after E_reject)
   std::size_t num_rejected = 0;  // removed by E_reject
+  // Input hygiene, both scans together: dropped (NaN/Inf, beyond max_abs_coordinate),
+  // thinned (max_points), merged (coincident), and overlapping points whose covariance
+  // was not usable.
+  std::size_t num_non_finite = 0, num_out_of_range = 0, num_thinned = 0, num_merged = 0;
+  std::size_t num_degenerate = 0;
+  // Work of the neighbour search: candidate points distance-tested, over all queries (own
+  // and other cloud). Bounded work is asserted on this, not on time.
+  std::size_t num_distance_tests = 0;
+  std::string reason;  // why the result is not valid (empty when valid)
   // Standard errors of the subset estimates [nats] (0 when every point is scored): the
   // spread of the sampled per-point values over sqrt(n) with the finite-population
   // correction (times sqrt(pi/2) for the median). quality_stderr uses q_k = h_j - h_i.
@@ -113,6 +136,7 @@ void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntro
     pe->h_sep = static_cast<float>(h_sep);
     pe->valid = true;
   }
+  pe->degenerate = pe->overlap && !pe->valid;
 }
 
 // E_reject (Sec. III-C (3)), H_sep / H_joint / Q (Eq. 3-5, mean or median), MME, overlap,

@@ -49,8 +49,9 @@ using Moments = MomentsN<3>;
 // log det is taken from the eigenvalues of the symmetric matrix, never from log(det()).
 // epsilon > 0 is option (1) of Sec. III-C: the determinant is floored as det + epsilon, so
 // h >= 1/2 ln((2 pi e)^N epsilon) and lines / planes stay finite.
-// Returns false (h untouched) when Sigma is not finite, or is singular / ill-conditioned
-// (smallest eigenvalue <= 1e-12 * largest) and epsilon == 0.
+// Returns false (h untouched) when Sigma is not finite, when the points coincide (zero
+// covariance, whatever epsilon: no usable covariance), or when Sigma is
+// singular / ill-conditioned (smallest eigenvalue <= 1e-12 * largest) and epsilon == 0.
 bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h);
 
 // Entropy of the whole point set (all points are one neighbourhood). Used by tests and
