@@ -142,6 +142,11 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("coral/max_queries", &c->coral.max_queries) &&
       r.get("coral/query_seed", &c->coral.query_seed) &&
       r.get("coral/threads", &c->coral.threads) &&
+      r.get("coral/max_abs_coordinate", &c->coral.max_abs_coordinate) &&
+      r.get("coral/max_points", &c->coral.max_points) &&
+      r.get("coral/refuse_over_max_points", &c->coral.refuse_over_max_points) &&
+      r.get("coral/merge_distance", &c->coral.merge_distance) &&
+      r.get("coral/max_degenerate_fraction", &c->coral.max_degenerate_fraction) &&
       r.get("classifier/beta0", &c->classifier.beta0) &&
       r.get("classifier/beta1", &c->classifier.beta1) &&
       r.get("classifier/beta2", &c->classifier.beta2) &&

@@ -144,6 +144,18 @@ TEST(Params, DenseLidarKeysReachTheCoralConfig) {
   EXPECT_EQ(c.coral.max_queries, 2000);
   EXPECT_EQ(c.coral.query_seed, 7);
   EXPECT_EQ(c.coral.threads, 2);
+  t["coral"]["max_abs_coordinate"] = 1e5;
+  t["coral"]["max_points"] = 300000;
+  t["coral"]["refuse_over_max_points"] = true;
+  t["coral"]["merge_distance"] = 0.002;
+  t["coral"]["max_degenerate_fraction"] = 0.3;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, &warnings)) << err;
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_DOUBLE_EQ(c.coral.max_abs_coordinate, 1e5);
+  EXPECT_EQ(c.coral.max_points, 300000);
+  EXPECT_TRUE(c.coral.refuse_over_max_points);
+  EXPECT_DOUBLE_EQ(c.coral.merge_distance, 0.002);
+  EXPECT_DOUBLE_EQ(c.coral.max_degenerate_fraction, 0.3);
   t["coral"]["threads"] = 0;
   EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
   EXPECT_NE(err.find("threads"), std::string::npos) << err;
