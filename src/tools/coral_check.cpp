@@ -112,6 +112,16 @@ bool sensorPoints(const Input& in, const NodeConfig& cfg, core::RadarFeatures* o
   return true;
 }
 
+// Reason strings are plain sentences; quotes and backslashes escaped for JSON.
+std::string jsonEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += (static_cast<unsigned char>(c) < 0x20) ? ' ' : c;
+  }
+  return out;
+}
+
 struct Outcome {
   core::CoralResult result;
   core::Verdict verdict;
@@ -216,9 +226,12 @@ int main(int argc, char** argv) {
       "{\"valid\": %s, \"aligned\": %s, \"probability\": %.6f, \"quality\": %.6f, "
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
       "\"num_points_b\": %zu, \"seconds\": %.6f, \"quality_stderr\": %.6f, \"num_valid\": %zu, "
-      "\"num_queries\": %zu}\n",
+      "\"num_queries\": %zu, \"num_non_finite\": %zu, \"num_out_of_range\": %zu, "
+      "\"num_thinned\": %zu, \"num_merged\": %zu, \"num_degenerate\": %zu, \"reason\": \"%s\"}\n",
       r.valid ? "true" : "false", r.valid && out.verdict.aligned ? "true" : "false",
       r.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
-      r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries);
+      r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
+      r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
+      jsonEscape(r.reason).c_str());
   return 0;
 }

@@ -7,6 +7,9 @@
 // --quality: Q at the registered pose against Q with induced offsets of b (in b's sensor
 //   frame), and the classifier's verdicts, on the libpointmatcher pair and on consecutive
 //   Livox keyframes (hku1_livox_keyframes, optimized_poses.txt).
+// --degenerate: identical-point clusters (5k-40k per scan: time and verdict), and a Livox
+//   pair with a 0.7 m lateral error plus 0 / 1500 / 3000 no-returns at each sensor origin,
+//   or one point at 1e30 (issue 13).
 // --seed_study N: the subset estimator on the timing pair over N seeds (spread of Q against
 //   the reported standard error). --write_pair DIR: a.bin, b.bin, T_a_b.txt of the timing
 //   pair, for coral_check.
@@ -45,7 +48,7 @@ double median(std::vector<double> v) {
 struct Options {
   std::string data = "../shared/data";
   int repeats = 5;
-  bool timing = false, quality = false;
+  bool timing = false, quality = false, degenerate = false;
   int seed_study = 0;
   std::string write_pair;
   CoralConfig coral;
@@ -120,7 +123,7 @@ bool parse(int argc, char** argv, Options* o) {
     }
     if (!ok) return false;
   }
-  if (!o->timing && !o->quality && o->seed_study == 0 && o->write_pair.empty())
+  if (!o->timing && !o->quality && !o->degenerate && o->seed_study == 0 && o->write_pair.empty())
     o->timing = o->quality = true;
   if (o->repeats < 1) o->repeats = 1;
   const std::string e = c.validate() + o->clf.validate();
@@ -308,6 +311,59 @@ bool runQuality(const Options& o) {
   return true;
 }
 
+void printDegenerate(const char* name, const CoralResult& r, double ms, const Options& o) {
+  const Verdict v = classify(o.clf, r.h_joint, r.h_sep);
+  std::printf("%-52s %9.1f ms  valid %d aligned %d p %.3f Q %.4f", name, ms, r.valid,
+              r.valid && v.aligned, r.valid ? v.probability : 0.0, r.quality);
+#ifndef CORAL_BASELINE
+  std::printf("  merged %zu degenerate %zu out of range %zu%s%s", r.num_merged, r.num_degenerate,
+              r.num_out_of_range, r.reason.empty() ? "" : "  reason: ", r.reason.c_str());
+#endif
+  std::printf("\n");
+}
+
+bool runDegenerate(const Options& o) {
+  for (int n : {5000, 10000, 20000, 40000}) {
+    Scan a, b;
+    a.points.assign(n, Vec3(3.0, 1.0, 0.5));
+    b.points.assign(n, Vec3(3.0, 1.0, 0.5));
+    const auto t0 = Clock::now();
+    const CoralResult r = computeCoral(a, b, o.coral);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const std::string name = std::to_string(n) + " identical points per scan";
+    printDegenerate(name.c_str(), r, ms, o);
+  }
+  const std::string dir = o.data + "/hku1_livox_keyframes";
+  Isometries poses;
+  std::string err;
+  Scan a, b;
+  if (!readKittiPoses(dir + "/optimized_poses.txt", &poses, &err) ||
+      !loadFrame(dir + "/Scans/000100.pcd", &a.points) ||
+      !loadFrame(dir + "/Scans/000101.pcd", &b.points)) {
+    std::fprintf(stderr, "%s\n", err.c_str());
+    return false;
+  }
+  const Eigen::Isometry3d T_a_b = poses[100].inverse() * poses[101];
+  const Eigen::Isometry3d left = T_a_b * se2(0.0, 0.7, 0.0);
+  for (int extra : {-1, 0, 1500, 3000, -2}) {
+    Scan ea = a, eb = b;
+    for (int i = 0; i < extra; ++i) {
+      ea.points.push_back(Vec3::Zero());
+      eb.points.push_back(Vec3::Zero());
+    }
+    if (extra == -2) eb.points.push_back(Vec3(1e30, 0.0, 0.0));
+    const auto t0 = Clock::now();
+    const CoralResult r = computeCoral(ea, transformScan(eb, extra == -1 ? T_a_b : left), o.coral);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const std::string name =
+        extra == -1   ? std::string("Livox 100/101 at the pose")
+        : extra == -2 ? std::string("Livox 100/101, 0.7 m left, + 1 point at 1e30")
+                      : "Livox 100/101, 0.7 m left, + " + std::to_string(extra) + " at origin";
+    printDegenerate(name.c_str(), r, ms, o);
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -371,5 +427,6 @@ int main(int argc, char** argv) {
 #endif
   }
   if (o.quality && !runQuality(o)) return 1;
+  if (o.degenerate && !runDegenerate(o)) return 1;
   return 0;
 }
