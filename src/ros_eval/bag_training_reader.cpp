@@ -78,8 +78,8 @@ bool readScan(const rosbag::MessageInstance& m, const BagTrainingOptions& o, Raw
   *stamp = image->header.stamp;
   out->is_image = true;
   SensorScan ss;
-  if (!imageToSensorScan(*image, o.node, &ss, error)) return false;  // RIP front end
-  out->rip = std::move(ss.features);
+  if (!toSensorScan(*image, o.node, &ss, error)) return false;  // RIP front end
+  out->rip = std::move(ss.scan.features);
   if (o.with_cfear) {
     const cv::Mat mat(static_cast<int>(image->height), static_cast<int>(image->width), CV_8UC1,
                       const_cast<uint8_t*>(image->data.data()), image->step);
