@@ -86,8 +86,8 @@ bool readBag(const std::string& path, const std::string& field, std::vector<Fram
 // False-alarm rate of the online Doppler check (the nodelet's code path: online::Introspector
 // with poses that move at the true velocity) on n simulated scan pairs with random sensor
 // velocities; point covariances from the simulator's own polar noise, or none.
-double onlineFalseAlarms(bool covariances, int n, double* checked) {
-  const DopplerSimConfig sim;
+double onlineFalseAlarms(const DopplerSimConfig& sim, bool random_velocity, bool covariances, int n,
+                         double* checked) {
   coral_introspection::online::IntrospectorConfig c;
   c.doppler.enabled = true;
   c.doppler.point_covariances = covariances;
@@ -97,7 +97,8 @@ double onlineFalseAlarms(bool covariances, int n, double* checked) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int tested = 0, flagged = 0;
   for (int i = 0; i < n; ++i) {
-    const Vec3 v(1.75 + 1.25 * u(rng), 0.5 * u(rng), 0.2 * u(rng));
+    const Vec3 v = random_velocity ? Vec3(1.75 + 1.25 * u(rng), 0.5 * u(rng), 0.2 * u(rng))
+                                   : Vec3(3.0, 0.0, 0.0);
     for (int k = 0; k < 2; ++k) {  // a new sequence (gap > max_time_gap) for each pair
       const DopplerSimScan s = simulateDopplerScan(v, sim, rng);
       coral_introspection::online::ScanInput in;
@@ -219,14 +220,25 @@ int main(int argc, char** argv) {
       cfg.confidence, cfg.sigma_doppler, cfg.sigma_reference_velocity, tested,
       tested ? 100.0 * accepted / tested : 0.0, tested ? 100.0 * rejected / tested : 0.0, error);
   if (synthetic) {
-    double n_cov = 0, n_plain = 0;
-    const double with_cov = onlineFalseAlarms(true, 4000, &n_cov);
-    const double without = onlineFalseAlarms(false, 4000, &n_plain);
-    std::printf(
-        "online check (Introspector, poses at the true velocity, confidence %.2f): false alarms "
-        "%.2f%% with point covariances (%.0f checks), %.2f%% without (%.0f checks)\n",
-        coral_introspection::online::IntrospectorConfig().doppler.check.confidence,
-        100.0 * with_cov, n_cov, 100.0 * without, n_plain);
+    // The tool's scans (60 points, 30 % movers, random velocity), then the nodelet_doppler
+    // rostest's (300 points, 20 % movers, 3 m/s forward).
+    DopplerSimConfig rostest;
+    rostest.num_points = 300;
+    rostest.outlier_fraction = 0.2;
+    for (const bool dense : {false, true}) {
+      const DopplerSimConfig sim = dense ? rostest : DopplerSimConfig();
+      double n_cov = 0, n_plain = 0;
+      const double with_cov = onlineFalseAlarms(sim, !dense, true, 4000, &n_cov);
+      const double without = onlineFalseAlarms(sim, !dense, false, 4000, &n_plain);
+      std::printf(
+          "online check (Introspector, poses at the true velocity, confidence %.2f), %d points, "
+          "%.0f %% movers, %s: false alarms %.2f%% with point covariances (%.0f checks), %.2f%% "
+          "without (%.0f checks)\n",
+          coral_introspection::online::IntrospectorConfig().doppler.check.confidence,
+          sim.num_points, 100.0 * sim.outlier_fraction,
+          dense ? "v = 3 m/s forward" : "random velocity", 100.0 * with_cov, n_cov, 100.0 * without,
+          n_plain);
+    }
   }
   return 0;
 }
