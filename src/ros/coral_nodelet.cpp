@@ -134,6 +134,8 @@ class CoralNodelet : public nodelet::Nodelet {
         if (!r.has_pose || r.action == online::PairAction::kBackwardsReset ||
             r.action == online::PairAction::kDuplicateReset)
           NODELET_WARN_THROTTLE(5.0, "%s", r.reason.c_str());
+        else if (r.action == online::PairAction::kGapReset)
+          NODELET_INFO_THROTTLE(10.0, "%s", r.reason.c_str());
         outputs_.publish(r, job->header, cfg.fixed_frame, opt);
       });
     }

@@ -102,7 +102,6 @@ void Stats::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("last error", last_error_);
   last_input_ = input_;
   last_counters_ = counters_;
-  last_dropped_ = dropped_;
   last_latency_sum_ = latency_sum_;
   last_with_pose_ = with_pose_;
   last_report_ = now;

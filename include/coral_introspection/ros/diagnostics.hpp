@@ -50,7 +50,7 @@ class Stats {
   std::mutex mutex_;
   InputCounters input_, last_input_;
   online::Counters counters_, last_counters_;
-  uint64_t dropped_ = 0, last_dropped_ = 0;
+  uint64_t dropped_ = 0;  // scans replaced in the mailbox before the worker took them
   double latency_sum_ = 0.0, last_latency_sum_ = 0.0;  // [s] over scans with a pose
   uint64_t with_pose_ = 0, last_with_pose_ = 0;
   ros::WallTime last_report_ = ros::WallTime::now();
