@@ -149,7 +149,7 @@ TEST(Introspector, RadarDeskewMakesTheMovingScansConsistent) {
     EXPECT_EQ(judged, 4);
   }
   std::printf("mean Q over 4 pairs: de-skewed %.3f, raw %.3f\n", q_deskew, q_raw);
-  EXPECT_GT(q_raw, 0.1);  // the distortion is visible to CorAl ...
+  EXPECT_GT(q_raw, 0.1);             // the distortion is visible to CorAl ...
   EXPECT_LT(3.0 * q_deskew, q_raw);  // ... and the de-skewed pairs are far more consistent
 }
 
