@@ -23,6 +23,8 @@
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/online/introspector.hpp"
+#include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/ros/params.hpp"
 #include "coral_introspection/ros/scan_input.hpp"
@@ -107,8 +109,8 @@ bool sensorPoints(const Input& in, const NodeConfig& cfg, core::RadarFeatures* o
     std::copy(in.image.ptr<uint8_t>(r), in.image.ptr<uint8_t>(r) + in.image.cols,
               msg.data.begin() + static_cast<std::ptrdiff_t>(r) * msg.step);
   ros_adapters::SensorScan scan;
-  if (!ros_adapters::imageToSensorScan(msg, cfg, &scan, error)) return false;
-  *out = std::move(scan.features);
+  if (!ros_adapters::toSensorScan(msg, cfg, &scan, error)) return false;
+  *out = std::move(scan.scan.features);
   return true;
 }
 
@@ -122,33 +124,26 @@ std::string jsonEscape(const std::string& s) {
   return out;
 }
 
-struct Outcome {
-  core::CoralResult result;
-  core::Verdict verdict;
-};
-
-// Everything after loading: features (radar), de-skew, b into a's frame, CorAl, verdict.
+// Everything after loading: features (radar, de-skewed by the one policy: a two-scan
+// sequence uses the pair's own twist for both), then the Introspector's judgePair.
 bool judge(const Input& ia, const Input& ib, const Eigen::Isometry3d& T_a_b, const NodeConfig& cfg,
-           Outcome* out, std::string* error) {
-  core::RadarFeatures fa, fb;
-  if (ia.image.empty()) {  // clouds: b into a's frame, CorAl on the loaded scans
-    out->result = core::computeCoral(ia.scan, core::transformScan(ib.scan, T_a_b), cfg.coral);
-    out->verdict = core::classify(cfg.classifier, out->result.h_joint, out->result.h_sep);
+           online::PairJudgement* out, std::string* error) {
+  if (ia.image.empty()) {  // clouds: CorAl on the loaded scans
+    *out = online::judgePair(ia.scan, ib.scan, T_a_b, cfg.online, false);
     return true;
   }
+  core::RadarFeatures fa, fb;
   if (!sensorPoints(ia, cfg, &fa, error) || !sensorPoints(ib, cfg, &fb, error)) return false;
-  core::Twist twist;  // constant velocity from the pair's own motion, as the nodelet's TF
-  if (!ia.image.empty() && cfg.motion_compensation &&
-      ros_adapters::twistBetween(Eigen::Isometry3d::Identity(), T_a_b, ib.stamp - ia.stamp,
-                                 &twist)) {
-    core::compensateMotion(twist, ia.stamp, &fa);
-    core::compensateMotion(twist, ib.stamp, &fb);
+  const auto twists = core::deskewVelocities(
+      {ia.stamp, ib.stamp}, {Eigen::Isometry3d::Identity(), T_a_b}, cfg.online.deskew);
+  if (cfg.online.deskew.enabled && twists[0] && twists[1]) {
+    core::compensateMotion(*twists[0], ia.stamp, &fa);
+    core::compensateMotion(*twists[1], ib.stamp, &fb);
   }
   core::Scan a, b;
   a.points = std::move(fa.points);
   b.points = std::move(fb.points);
-  out->result = core::computeCoral(a, core::transformScan(b, T_a_b), cfg.coral);
-  out->verdict = core::classify(cfg.classifier, out->result.h_joint, out->result.h_sep);
+  *out = online::judgePair(std::move(a), b, T_a_b, cfg.online, false);
   return true;
 }
 
@@ -204,14 +199,13 @@ int main(int argc, char** argv) {
   if (!ros_adapters::loadNodeConfig(tree, &cfg, &err, &warnings)) return fail(config + ": " + err);
   for (const std::string& w : warnings)
     std::fprintf(stderr, "coral_check: warning: %s\n", w.c_str());
-  cfg.coral.per_point = false;
 
   Eigen::Isometry3d T_a_b;
   if (!core::readTransformFile(transform, &T_a_b, &err)) return fail(err);
   Input a, b;
   if (!loadInput(path_a, cfg, &a, &err) || !loadInput(path_b, cfg, &b, &err)) return fail(err);
 
-  Outcome out;
+  online::PairJudgement out;
   std::vector<double> seconds;
   for (int k = 0; k < repeat; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -221,7 +215,7 @@ int main(int argc, char** argv) {
   std::sort(seconds.begin(), seconds.end());
   const std::size_t n = seconds.size();
   const double median = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
-  const core::CoralResult& r = out.result;
+  const core::CoralResult& r = out.coral;
   std::printf(
       "{\"valid\": %s, \"aligned\": %s, \"probability\": %.6f, \"quality\": %.6f, "
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
@@ -232,6 +226,6 @@ int main(int argc, char** argv) {
       r.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
       r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
-      jsonEscape(r.reason).c_str());
+      jsonEscape(out.reason).c_str());
   return 0;
 }
