@@ -1,6 +1,6 @@
 // Benchmark and quality check of lidar CorAl on the shared data (ROS-free):
 //   coral_benchmark_lidar [--data DIR] [--repeats N] [CorAl flags] [--timing] [--quality]
-//                         [--seed_study N] [--write_pair DIR]
+//                         [--degenerate] [--seed_study N] [--write_pair DIR]
 // --timing: median ms per pair (transform of b + computeCoral) on two 64-beam pairs built
 //   from the View-of-Delft HDL-64 frames (see makeTimingPair). With --repeats 1 it is one
 //   run for `valgrind --tool=callgrind`.
@@ -82,6 +82,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->timing = true;
     else if (a == "--quality")
       o->quality = true;
+    else if (a == "--degenerate")
+      o->degenerate = true;
     else if (a == "--seed_study")
       ok = inum(&o->seed_study);
     else if (a == "--radius")
