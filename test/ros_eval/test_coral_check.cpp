@@ -112,6 +112,36 @@ TEST_F(CoralCheck, JudgesAlignedAndMisalignedPairs) {
   EXPECT_GT(std::stod(field(bad.out, "quality")), std::stod(field(good.out, "quality")) + 0.2);
 }
 
+// T.txt may be 3x4 (KITTI poses): the same pair, the same verdict and Q.
+TEST_F(CoralCheck, ThreeByFourTransformEqualsFourByFour) {
+  const std::string t34 = tempPath("cc_t34", ".txt");
+  {
+    std::ofstream f(t34);
+    f.precision(12);
+    f << T_a_b_.matrix().topRows<3>() << "\n";
+  }
+  const CheckRun r34 = runCheck(args(t34));
+  const CheckRun r44 = runCheck(args(t_good_));
+  ASSERT_EQ(r34.status, 0) << r34.err;
+  EXPECT_EQ(field(r34.out, "quality"), field(r44.out, "quality"));
+  EXPECT_EQ(field(r34.out, "aligned"), "true");
+}
+
+// Degenerate input is judged (exit 0) but gets no verdict, and the JSON says why.
+TEST_F(CoralCheck, IdenticalPointsGiveNoVerdictWithAReason) {
+  const std::string a = tempPath("cc_same_a", ".bin"), b = tempPath("cc_same_b", ".bin");
+  writeBin(a, Points(5000, Vec3(3.0, 1.0, 0.5)));
+  writeBin(b, Points(5000, Vec3(3.0, 1.0, 0.5)));
+  const CheckRun r =
+      runCheck("--config " + preset_ + " --a " + a + " --b " + b + " --transform_file " + t_good_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(field(r.out, "valid"), "false") << r.out;
+  EXPECT_EQ(field(r.out, "aligned"), "false");
+  const std::string reason = field(r.out, "reason");
+  EXPECT_NE(reason, "") << "no reason key: " << r.out;
+  EXPECT_NE(reason, "\"\"") << r.out;
+}
+
 TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
   const std::string missing = tempPath("cc_missing", ".pcd");
   struct Case {
@@ -152,8 +182,9 @@ TEST(CoralCheckRadar, OxfordPngPairAtGroundTruthIsAligned) {
   writeMatrix(t, ds.T_prev_curr[1]);
   const std::string cfg = std::string(CORAL_SOURCE_DIR) + "/config/radar_oxford.yaml";
   const std::string clf = std::string(CORAL_SOURCE_DIR) + "/config/classifier_radar_oxford.yaml";
-  const CheckRun r = runCheck("--config " + cfg + " --classifier " + clf + " --a " + ds.png_paths[0] +
-                         " --b " + ds.png_paths[1] + " --transform_file " + t);
+  const CheckRun r =
+      runCheck("--config " + cfg + " --classifier " + clf + " --a " + ds.png_paths[0] + " --b " +
+               ds.png_paths[1] + " --transform_file " + t);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(field(r.out, "valid"), "true") << r.out;
   EXPECT_EQ(field(r.out, "aligned"), "true") << r.out;
