@@ -20,6 +20,11 @@ std::string noVerdictReason(const core::CoralResult& r, const core::CoralConfig&
   else
     s << "no point with finite entropies (" << r.num_overlap
       << " overlapping; check coral/radius, coral/epsilon, coral/dimension)";
+  // Input hygiene that explains an empty or degenerate pair (identical points, far points).
+  if (r.num_merged > 0) s << "; " << r.num_merged << " coincident points merged";
+  if (r.num_non_finite + r.num_out_of_range > 0)
+    s << "; " << r.num_non_finite << " non-finite and " << r.num_out_of_range
+      << " out-of-range points dropped";
   return s.str();
 }
 }  // namespace

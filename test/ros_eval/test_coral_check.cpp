@@ -132,14 +132,17 @@ TEST_F(CoralCheck, IdenticalPointsGiveNoVerdictWithAReason) {
   const std::string a = tempPath("cc_same_a", ".bin"), b = tempPath("cc_same_b", ".bin");
   writeBin(a, Points(5000, Vec3(3.0, 1.0, 0.5)));
   writeBin(b, Points(5000, Vec3(3.0, 1.0, 0.5)));
+  const std::string exact = tempPath("cc_exact", ".yaml");  // no voxel filter: merging counts
+  std::ofstream(exact) << "input_type: pointcloud\ncoral:\n  dimension: 3\n  radius: 0.5\n";
   const CheckRun r =
-      runCheck("--config " + preset_ + " --a " + a + " --b " + b + " --transform_file " + t_good_);
+      runCheck("--config " + exact + " --a " + a + " --b " + b + " --transform_file " + t_good_);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(field(r.out, "valid"), "false") << r.out;
   EXPECT_EQ(field(r.out, "aligned"), "false");
   const std::string reason = field(r.out, "reason");
   EXPECT_NE(reason, "") << "no reason key: " << r.out;
   EXPECT_NE(reason, "\"\"") << r.out;
+  EXPECT_NE(reason.find("coincident"), std::string::npos) << r.out;
 }
 
 TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
