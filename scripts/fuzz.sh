@@ -5,7 +5,8 @@
 # $CORAL_WS_SAN/fuzz/<harness>/corpus; a crash, leak, timeout or sanitizer report stops the
 # harness, leaves its input there (crash-*, leak-*, timeout-*) and fails the script.
 # Usage: scripts/fuzz.sh [RUNS] [HARNESS...]   default: 1000000 runs, every harness
-#   (harness = polar_rip | cloud_conversion | coral). CORAL_FUZZ_SEED sets the seed (1).
+#   (harness = polar_rip | cloud_conversion | coral). CORAL_FUZZ_SEED sets the seed (1);
+#   CORAL_FUZZ_SKIP_BUILD=1 uses the harnesses as built (e.g. built under a lock beforehand).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 export CORAL_WS_SAN="${CORAL_WS_SAN:-${CORAL_WS}_san}"
@@ -14,7 +15,9 @@ shift || true
 HARNESSES=("$@")
 [ ${#HARNESSES[@]} -eq 0 ] && HARNESSES=(polar_rip cloud_conversion coral)
 
-bash "${CORAL_REPO}/scripts/test_sanitizers.sh" --build-only
+if [ -z "${CORAL_FUZZ_SKIP_BUILD:-}" ]; then
+  bash "${CORAL_REPO}/scripts/test_sanitizers.sh" --build-only
+fi
 export ASAN_SYMBOLIZER_PATH="${ASAN_SYMBOLIZER_PATH:-/usr/lib/llvm-14/bin/llvm-symbolizer}"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
