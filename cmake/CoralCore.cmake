@@ -4,6 +4,7 @@
 #   online -> radar -> coral        eval -> radar -> coral        (eval: tools and tests only)
 find_package(Eigen3 REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+find_package(PCL REQUIRED COMPONENTS common io)
 
 set(CORAL_WARNINGS -Wall -Wextra)
 
@@ -25,7 +26,9 @@ target_include_directories(coral_introspection_coral SYSTEM PUBLIC ${EIGEN3_INCL
 coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral ${OpenCV_LIBS})
 target_include_directories(coral_introspection_radar SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
 coral_add_library(coral_introspection_online online DEPS coral_introspection_radar)
-coral_add_library(coral_introspection_eval eval DEPS coral_introspection_radar)
+coral_add_library(coral_introspection_eval eval DEPS coral_introspection_radar ${PCL_LIBRARIES})
+# PCL's PCD reader for eval/cloud_io (tools and tests only; the nodelet does not link it).
+target_include_directories(coral_introspection_eval SYSTEM PUBLIC ${PCL_INCLUDE_DIRS})
 
 set(CORAL_CORE_LIBRARIES coral_introspection_coral coral_introspection_radar
     coral_introspection_online)
