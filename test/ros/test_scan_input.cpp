@@ -89,18 +89,18 @@ TEST(ImageToSensorScan, OxfordRowsThatAreNotOneSweepAreRefused) {
   ox.polar_format = ros_adapters::PolarFormat::kOxford;
   ros_adapters::SensorScan s;
   std::string err;
-  ASSERT_TRUE(ros_adapters::imageToSensorScan(im, ox, &s, &err)) << err;
-  EXPECT_EQ(s.features.points.size(), 400u);
+  ASSERT_TRUE(ros_adapters::toSensorScan(im, ox, &s, &err)) << err;
+  EXPECT_EQ(s.scan.features.points.size(), 400u);
   sensor_msgs::Image reversed = im;  // row r gets the stamp of row 399 - r
   for (int r = 0; r < 400; ++r)
     std::copy_n(&im.data[static_cast<std::size_t>(399 - r) * 3779], 8,
                 &reversed.data[static_cast<std::size_t>(r) * 3779]);
-  EXPECT_FALSE(ros_adapters::imageToSensorScan(reversed, ox, &s, &err));
+  EXPECT_FALSE(ros_adapters::toSensorScan(reversed, ox, &s, &err));
   EXPECT_NE(err.find("backwards"), std::string::npos) << err;
-  EXPECT_TRUE(s.features.points.empty());
+  EXPECT_TRUE(s.scan.features.points.empty());
   sensor_msgs::Image stuck = im;
   for (int r = 0; r < 400; ++r) stuck.data[r * 3779 + 8] = stuck.data[r * 3779 + 9] = 0;
-  EXPECT_FALSE(ros_adapters::imageToSensorScan(stuck, ox, &s, &err));
+  EXPECT_FALSE(ros_adapters::toSensorScan(stuck, ox, &s, &err));
   EXPECT_NE(err.find("stuck encoder"), std::string::npos) << err;
 }
 
