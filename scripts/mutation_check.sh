@@ -21,16 +21,16 @@ if [ -z "${CORAL_MUTATION_LOCKED:-}" ]; then
   CORAL_MUTATION_LOCKED=1 exec flock "${LOCK}" bash "$0" "$@"
 fi
 
-# name | file | perl substitution | test targets. The substitution must change the file
+# name @ file @ perl substitution @ test targets. The substitution must change the file
 # (a pattern that no longer matches the code is reported, not skipped silently).
 CORAL_TESTS="test_coral_known_answers test_coral"
 MUTATIONS=(
-  "min_overlap gate removed|src/coral/coral.cpp|s/res->overlap < cfg\.min_overlap/false/g; s/ && res->overlap >= cfg\.min_overlap//g|${CORAL_TESTS}"
-  "Doppler covariance propagation (Eq. 11-12) removed|src/radar/doppler_fit.cpp|s/return sigma_doppler \* sigma_doppler \+ J\.dot\(o\.cov \* J\);/return sigma_doppler * sigma_doppler + 0 * J.dot(o.cov * J);/|test_doppler_covariance test_doppler"
-  "min_neighbours_other default 1|include/coral_introspection/coral/coral.hpp|s/int min_neighbours_other = 2;/int min_neighbours_other = 1;/|${CORAL_TESTS}"
-  "min_neighbours_other ignored (1)|include/coral_introspection/coral/coral.hpp|s/other\.n (>=|<) cfg\.min_neighbours_other/other.n \$1 1/g|${CORAL_TESTS}"
-  "own and other neighbourhoods swapped|src/coral/coral.cpp|s/scorePoint\(m_own, m_other,/scorePoint(m_other, m_own,/g|${CORAL_TESTS}"
-  "RIP noise floor: peak at z_min kept|src/radar/rip_features.cpp|s/if \(sr <= s_min\) continue;/if (sr < s_min) continue;/|test_rip_features test_polar_scan test_oxford_radar"
+  "min_overlap gate removed@src/coral/coral.cpp@s/res->overlap < cfg\.min_overlap/false/g; s/ && res->overlap >= cfg\.min_overlap//g@${CORAL_TESTS}"
+  "Doppler covariance propagation (Eq. 11-12) removed@src/radar/doppler_fit.cpp@s/return sigma_doppler \* sigma_doppler \+ J\.dot\(o\.cov \* J\);/return sigma_doppler * sigma_doppler + 0 * J.dot(o.cov * J);/@test_doppler_covariance test_doppler"
+  "min_neighbours_other default 1@include/coral_introspection/coral/coral.hpp@s/int min_neighbours_other = 2;/int min_neighbours_other = 1;/@${CORAL_TESTS}"
+  "min_neighbours_other ignored (1)@include/coral_introspection/coral/coral.hpp@s/other\.n (>=|<) cfg\.min_neighbours_other/other.n \$1 1/g@${CORAL_TESTS}"
+  "own and other neighbourhoods swapped@src/coral/coral.cpp@s/scorePoint\(m_own, m_other,/scorePoint(m_other, m_own,/g@${CORAL_TESTS}"
+  "RIP noise floor: peak at z_min kept@src/radar/rip_features.cpp@s/if \(sr <= s_min\) continue;/if (sr < s_min) continue;/@test_rip_features test_polar_scan test_oxford_radar"
 )
 
 build() {  # build <targets...>
@@ -72,7 +72,7 @@ cmake -S "${SRC}" -B "${BUILD}" -DCORAL_CORE_ONLY=ON -DCMAKE_BUILD_TYPE=Release 
   -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" > "${WORK}/cmake.log"
 
 all_targets=""
-for m in "${MUTATIONS[@]}"; do all_targets+=" ${m##*|}"; done
+for m in "${MUTATIONS[@]}"; do all_targets+=" ${m##*@}"; done
 all_targets=$(echo "${all_targets}" | tr ' ' '\n' | sort -u | tr '\n' ' ')
 start=$(date +%s)
 # shellcheck disable=SC2086
@@ -88,7 +88,7 @@ fi
 
 rows=()
 for m in "${MUTATIONS[@]}"; do
-  IFS='|' read -r name file subst targets <<< "${m}"
+  IFS='@' read -r name file subst targets <<< "${m}"
   cp "${REPO}/${file}" "${SRC}/${file}"
   perl -pi -e "${subst}" "${SRC}/${file}"
   if cmp -s "${REPO}/${file}" "${SRC}/${file}"; then

@@ -180,3 +180,23 @@ TEST(CoralKnownAnswers, LowOverlapPairIsInvalid) {
   addIsolated(&b.points, 4, 70.0);  // overlap 8 / 18 = 0.44
   EXPECT_FALSE(computeCoral(a, b, strict).valid);
 }
+
+// The default config (every field default) needs two other-cloud neighbours: five points of
+// a within 0.15 m of each other (inside the default 0.3 m radius) and one point of b among
+// them do not overlap; a second point of b makes the five a points overlap (b's two points,
+// with 2 own neighbours < min_neighbours 4, still do not).
+TEST(CoralKnownAnswers, DefaultConfigNeedsTwoOtherNeighbours) {
+  Scan a, b;
+  for (const Vec3& p :
+       {Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0, 0.1, 0), Vec3(0, 0, 0.1), Vec3(0.05, 0.05, 0.05)})
+    a.points.push_back(p);
+  b.points.push_back(Vec3(0.02, 0.03, 0.04));
+  const CoralConfig defaults;
+  CoralResult r = computeCoral(a, b, defaults);
+  EXPECT_EQ(r.num_overlap, 0u);
+  EXPECT_FALSE(r.valid);
+  b.points.push_back(Vec3(0.06, 0.02, 0.01));
+  r = computeCoral(a, b, defaults);
+  EXPECT_EQ(r.num_overlap, 5u);
+  EXPECT_TRUE(r.valid);
+}
