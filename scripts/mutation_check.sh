@@ -55,7 +55,7 @@ run_tests() {
     ctest --output-on-failure -R "${regex}" > "${log}" 2>&1
   ) || true
   local failed
-  failed=$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_./]*\).*/\1/p' "${log}" | grep -v '^$' |
+  failed=$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_./]*\).*/\1/p' "${log}" | grep -v '^[0-9]*$' |
     sort -u | tr '\n' ' ')
   if [ -z "${failed}" ] && ! grep -q "100% tests passed" "${log}"; then
     failed="(ctest failed, see ${log})"
