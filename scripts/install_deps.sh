@@ -21,6 +21,8 @@ PKGS=(
   libyaml-cpp-dev  # coral_check reads presets
   librostest-dev python3-rostest python3-rosunit python3-rosparam
   python3-numpy
+  # sanitizer build and libFuzzer harnesses (scripts/test_sanitizers.sh, scripts/fuzz.sh)
+  clang libclang-rt-14-dev llvm-14
 )
 
 missing=()

@@ -4,8 +4,10 @@
 #      nodelet);
 #   2. scripts/check_format.sh: every tracked C++ file formatted by .clang-format;
 #   3. scripts/check_install.sh: `catkin_make install`, then the nodelet launched from the
-#      install space alone answers check_alignment; no eval code in the plugin.
-# All three run even when one fails; a summary line per part at the end. Exit code != 0 on
+#      install space alone answers check_alignment; no eval code in the plugin;
+#   4. scripts/test_sanitizers.sh: every gtest built with clang, ASan + UBSan and run once;
+#   5. scripts/fuzz.sh: each libFuzzer harness for a fixed number of executions.
+# All parts run even when one fails; a summary line per part at the end. Exit code != 0 on
 # any failure. Idempotent: installed packages and built objects are reused.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
@@ -23,6 +25,10 @@ run "ctest (gtest + rostest)" bash -c \
   "cd '${CORAL_WS}/build/coral_introspection' && ctest --output-on-failure --timeout 900"
 run "clang-format (scripts/check_format.sh)" bash "${CORAL_REPO}/scripts/check_format.sh"
 run "install space (scripts/check_install.sh)" bash "${CORAL_REPO}/scripts/check_install.sh"
+run "ASan + UBSan gtests (scripts/test_sanitizers.sh)" bash "${CORAL_REPO}/scripts/test_sanitizers.sh"
+# A short fixed budget per harness (the long runs: scripts/fuzz.sh with its default 10^6).
+run "fuzz, ${CORAL_FUZZ_RUNS:-20000} runs per harness (scripts/fuzz.sh)" \
+  bash "${CORAL_REPO}/scripts/fuzz.sh" "${CORAL_FUZZ_RUNS:-20000}" polar_rip cloud_conversion coral
 
 echo "=== test summary"
 failed=0

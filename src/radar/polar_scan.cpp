@@ -15,6 +15,20 @@ constexpr int kOxfordCols = 3779;
 constexpr int kOxfordMeta = 11;  // 8 stamp + 2 encoder + 1 valid flag
 constexpr double kOxfordEncoderSize = 5600.0;
 
+// One sweep of a spinning radar (checkSweep). The CTS350-X sweeps of the Oxford data span
+// 0.247-0.253 s at a nominal 0.25 s; 1.5 periods leaves room for jitter, not for a second
+// sweep or a corrupt stamp.
+constexpr double kMaxSweepPeriods = 1.5;
+constexpr double kMinCoverageTurns = 0.9;  // of 2 pi: a few missing rows, not a half sweep
+constexpr double kMaxStepTurns = 0.25;     // between consecutive valid rows
+
+std::string rowStamp(int row, double t) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "row " << row << " (" << t << " s)";
+  return s.str();
+}
+
 std::string typeName(const cv::Mat& m) {
   std::ostringstream s;
   s << "depth " << m.depth() << ", " << m.channels() << " channel(s)";
@@ -56,6 +70,57 @@ std::string PolarImageConfig::validate() const {
       .str();
 }
 
+bool checkSweep(const PolarScan& scan, double scan_period, std::string* error) {
+  const std::size_t n = scan.valid.size();
+  if (scan.azimuths.size() != n || scan.stamps.size() != n)
+    return fail(error, "polar scan: azimuths/stamps/valid sizes differ");
+  const double max_duration = kMaxSweepPeriods * scan_period;
+  int first = -1, prev = -1, num_valid = 0;
+  double direction = 0.0, turned = 0.0;  // sign of the rotation, total angle [rad]
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!scan.valid[i]) continue;
+    const int row = static_cast<int>(i);
+    const double t = scan.stamps[i], a = scan.azimuths[i];
+    if (!std::isfinite(t) || !std::isfinite(a))
+      return fail(error, "polar scan " + rowStamp(row, t) + " has a non-finite stamp or azimuth");
+    ++num_valid;
+    if (first < 0) {
+      first = prev = row;
+      continue;
+    }
+    if (t < scan.stamps[prev])
+      return fail(error, "polar scan row stamps go backwards: " + rowStamp(row, t) + " is before " +
+                             rowStamp(prev, scan.stamps[prev]));
+    if (t - scan.stamps[first] > max_duration)
+      return fail(error, "polar scan rows span more than one sweep: " + rowStamp(row, t) +
+                             " is more than " + std::to_string(max_duration) + " s after " +
+                             rowStamp(first, scan.stamps[first]));
+    // Azimuth step to this row, wrapped into [-pi, pi]: its sign is the spin direction.
+    const double step = std::remainder(a - scan.azimuths[prev], 2.0 * M_PI);
+    if (direction == 0.0 && step != 0.0) direction = step > 0.0 ? 1.0 : -1.0;
+    if (!(step * direction > 0.0) || std::abs(step) > kMaxStepTurns * 2.0 * M_PI) {
+      std::ostringstream e;
+      e << "polar scan azimuth " << (step == 0.0 ? "does not advance (stuck encoder?)" : "jumps")
+        << " from row " << prev << " (" << scan.azimuths[prev] << " rad) to row " << row << " ("
+        << a << " rad)";
+      return fail(error, e.str());
+    }
+    turned += std::abs(step);
+    prev = row;
+  }
+  if (num_valid == 0) return fail(error, "polar scan has no valid row");
+  // Span of the rows plus one mean step: 2 pi for a complete sweep of evenly spaced rows.
+  const double coverage = num_valid > 1 ? turned * num_valid / (num_valid - 1) : 0.0;
+  if (coverage < kMinCoverageTurns * 2.0 * M_PI || turned >= 2.0 * M_PI) {
+    std::ostringstream e;
+    e << "polar scan azimuths cover " << coverage / (2.0 * M_PI) << " turns over " << num_valid
+      << " valid rows, expected one sweep (at least " << kMinCoverageTurns
+      << ", under 1 turn between the first and last row)";
+    return fail(error, e.str());
+  }
+  return true;
+}
+
 bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {
   if (out == nullptr) return fail(error, "decodeOxfordImage: null output");
   if (img.empty()) return fail(error, "Oxford radar image is empty");
@@ -93,7 +158,7 @@ bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {
   out->stamp = out->stamps[first];
   // Range bins share the buffer (no copy); clone if img may be modified later.
   out->power = img.colRange(kOxfordMeta, kOxfordCols);
-  return true;
+  return checkSweep(*out, PolarImageConfig::oxfordCts350x().scan_period, error);
 }
 
 bool loadOxfordScan(const std::string& png_path, PolarScan* out, std::string* error) {

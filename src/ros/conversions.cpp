@@ -78,7 +78,8 @@ bool findField(const sensor_msgs::PointCloud2& c, const std::string& name, Field
       *error = "field '" + name + "' has unknown datatype " + std::to_string(pf.datatype);
       return false;
     }
-    if (pf.offset + size > c.point_step) {
+    // In 64 bits: a uint32 offset near 2^32 would wrap past the check and read far outside.
+    if (static_cast<uint64_t>(pf.offset) + static_cast<uint64_t>(size) > c.point_step) {
       *error = "field '" + name + "' (offset " + std::to_string(pf.offset) +
                ") lies outside point_step " + std::to_string(c.point_step);
       return false;
@@ -198,6 +199,7 @@ sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan
                            PointField::FLOAT32, "q", 1, PointField::FLOAT32, "h_sep", 1,
                            PointField::FLOAT32, "h_joint", 1, PointField::FLOAT32, "scan", 1,
                            PointField::UINT8);
+  c.point_step = 28;  // 25 bytes padded: the float fields of every point stay 4-byte aligned
   // Every scored point carries its position (common frame) and scan; with a voxel filter
   // or a query subset these are the voxel centroids / sampled points that were evaluated.
   (void)a;

@@ -1,11 +1,14 @@
-// Polar scan decoders: Oxford raw layout, plain mono8 images, presets, corrupt input.
+// Polar scan decoders: Oxford raw layout, plain mono8 images, presets, corrupt input, and
+// the one-sweep check (corrupt row stamps / encoder values refused, real scans accepted).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 
+#include "coral_introspection/eval/oxford_dataset.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
+#include "support/test_data.hpp"
 
 using namespace coral_introspection::core;
 
@@ -27,6 +30,64 @@ cv::Mat oxfordImage() {
     for (int j = 0; j < 3768; ++j) row[11 + j] = static_cast<uint8_t>((i + j) % 50);
   }
   return img;
+}
+
+// Oxford row metadata, little-endian: stamp [us] in cols 0-7, encoder in cols 8-9.
+int64_t rowStampUs(const cv::Mat& img, int i) {
+  uint64_t us = 0;
+  for (int b = 7; b >= 0; --b) us = (us << 8) | img.at<uint8_t>(i, b);
+  return static_cast<int64_t>(us);
+}
+void setRowStampUs(cv::Mat& img, int i, int64_t us) {
+  for (int b = 0; b < 8; ++b)
+    img.at<uint8_t>(i, b) = static_cast<uint8_t>((static_cast<uint64_t>(us) >> (8 * b)) & 0xFF);
+}
+void setRowEncoder(cv::Mat& img, int i, int enc) {
+  img.at<uint8_t>(i, 8) = static_cast<uint8_t>(enc & 0xFF);
+  img.at<uint8_t>(i, 9) = static_cast<uint8_t>((enc >> 8) & 0xFF);
+}
+
+// Expects decodeOxfordImage to refuse img with a message containing `why`.
+void expectRefused(const cv::Mat& img, const std::string& why, const std::string& what) {
+  PolarScan s;
+  std::string err;
+  EXPECT_FALSE(decodeOxfordImage(img, &s, &err)) << what;
+  EXPECT_NE(err.find(why), std::string::npos) << what << ": " << err;
+}
+
+// The corruptions of the reliability issue, each applied to a copy of a good image:
+// reversed row stamps, one row stamp of 2^62 us (first, middle, last row), every row at the
+// same encoder value, plus a backwards encoder step, a half sweep and two turns in one image.
+void expectCorruptionsRefused(const cv::Mat& good, const std::string& name) {
+  PolarScan ok;
+  std::string err;
+  ASSERT_TRUE(decodeOxfordImage(good, &ok, &err)) << name << ": " << err;
+  cv::Mat img = good.clone();
+  for (int i = 0; i < 400; ++i) setRowStampUs(img, i, rowStampUs(good, 399 - i));
+  expectRefused(img, "backwards", name + " reversed stamps");
+  for (int row : {0, 200, 399}) {
+    img = good.clone();
+    setRowStampUs(img, row, int64_t{1} << 62);
+    expectRefused(img, row == 0 ? "backwards" : "more than one sweep",
+                  name + " 2^62 stamp in row " + std::to_string(row));
+  }
+  img = good.clone();
+  setRowStampUs(img, 399, rowStampUs(good, 0) + 400000);  // last row 0.4 s after the first
+  expectRefused(img, "more than one sweep", name + " sweep of 0.4 s");
+  img = good.clone();
+  const int stuck = img.at<uint8_t>(0, 8) | (img.at<uint8_t>(0, 9) << 8);
+  for (int i = 0; i < 400; ++i) setRowEncoder(img, i, stuck);
+  expectRefused(img, "stuck encoder", name + " stuck encoder");
+  img = good.clone();
+  good.row(100).colRange(8, 10).copyTo(img.row(101).colRange(8, 10));
+  good.row(101).colRange(8, 10).copyTo(img.row(100).colRange(8, 10));
+  expectRefused(img, "azimuth jumps", name + " encoder steps back");
+  img = good.clone();
+  img.rowRange(200, 400).col(10).setTo(0);  // only the first half of the sweep is valid
+  expectRefused(img, "cover 0.5", name + " half sweep");
+  img = good.clone();
+  for (int i = 0; i < 400; ++i) setRowEncoder(img, i, (28 * i + 13) % 5600);  // two turns
+  expectRefused(img, "expected one sweep", name + " two turns");
 }
 }  // namespace
 
@@ -159,4 +220,51 @@ TEST(PolarScan, PlainImageCorruptInputAndConfig) {
   EXPECT_EQ(s.azimuths.size(), 123u);
   cfg.scan_period = -1;
   EXPECT_NE(cfg.validate().find("scan_period"), std::string::npos);
+}
+
+TEST(PolarSweep, SyntheticCorruptRowsAreRefused) {
+  expectCorruptionsRefused(oxfordImage(), "synthetic");
+}
+
+TEST(PolarSweep, RealOxfordScansPassAndTheirCorruptionsAreRefused) {
+  CORAL_REQUIRE_DATA("oxford_radar_tiny");
+  OxfordDataset ds;
+  std::string err;
+  ASSERT_TRUE(ds.load(coral_data, &err)) << err;
+  ASSERT_EQ(ds.png_paths.size(), 11u);
+  for (const std::string& path : ds.png_paths) {
+    PolarScan s;
+    EXPECT_TRUE(loadOxfordScan(path, &s, &err)) << err;  // every real sweep passes
+  }
+  const cv::Mat img = cv::imread(ds.png_paths[3], cv::IMREAD_UNCHANGED);
+  expectCorruptionsRefused(img, ds.png_paths[3]);
+}
+
+TEST(PolarSweep, InvalidRowsAreIgnoredAndPlainSweepsPass) {
+  // Garbage in rows flagged invalid does not matter: only valid rows form the sweep.
+  cv::Mat img = oxfordImage();
+  for (int row : {3, 150, 399}) {
+    img.at<uint8_t>(row, 10) = 0;
+    setRowStampUs(img, row, int64_t{1} << 62);
+    setRowEncoder(img, row, 7);
+  }
+  PolarScan s;
+  std::string err;
+  EXPECT_TRUE(decodeOxfordImage(img, &s, &err)) << err;
+  // Plain images get evenly spaced azimuths and stamps: one sweep in either direction.
+  PolarImageConfig cfg = PolarImageConfig::mulranCir204();
+  for (auto dir : {AzimuthDirection::kCounterClockwise, AzimuthDirection::kClockwise}) {
+    cfg.direction = dir;
+    ASSERT_TRUE(decodePolarImage(cv::Mat(400, 20, CV_8UC1), cfg, 5.0, &s, &err)) << err;
+    EXPECT_TRUE(checkSweep(s, cfg.scan_period, &err)) << err;
+    // Stamps one period later than the bound allows: refused.
+    EXPECT_FALSE(checkSweep(s, cfg.scan_period / 2, &err));
+    EXPECT_NE(err.find("more than one sweep"), std::string::npos) << err;
+  }
+  s.valid.assign(s.valid.size(), 0);
+  EXPECT_FALSE(checkSweep(s, 0.25, &err));
+  EXPECT_NE(err.find("no valid row"), std::string::npos) << err;
+  s.valid.pop_back();
+  EXPECT_FALSE(checkSweep(s, 0.25, &err));
+  EXPECT_NE(err.find("sizes"), std::string::npos) << err;
 }

@@ -124,6 +124,31 @@ TEST(RipFeatures, SpeckleBelowNoiseFloorGivesNothing) {
   EXPECT_TRUE(rip(decode(img)).points.empty());
 }
 
+// Alg. 1 line 9 keeps a peak only when its region strength S[r] is strictly above z_min:
+// a peak whose 2w + 1 = 5 bins average exactly z_min = 70 is noise, one grey level more is not.
+TEST(RipFeatures, PeakExactlyAtNoiseFloorIsNotAFeature) {
+  cv::Mat img(400, 1000, CV_8UC1, cv::Scalar(0));
+  const uint8_t at_floor[5] = {50, 70, 110, 70, 50};  // sum 350: S = 70 = z_min
+  const uint8_t above[5] = {50, 70, 111, 70, 50};     // sum 351: S = 70.2
+  for (int j = 0; j < 5; ++j) {
+    img.at<uint8_t>(10, 298 + j) = at_floor[j];
+    img.at<uint8_t>(20, 598 + j) = above[j];
+  }
+  RipConfig cfg;
+  ASSERT_EQ(cfg.z_min, 70.0);
+  ASSERT_EQ(cfg.window, 2);
+  const RadarFeatures f = rip(decode(img), cfg);
+  ASSERT_EQ(f.points.size(), 1u);  // only the peak above the floor, on row 20
+  EXPECT_NEAR(f.points[0].head<2>().norm(), 600 * 0.0595, 1e-9);
+  EXPECT_NEAR(std::atan2(f.points[0].y(), f.points[0].x()), 2.0 * M_PI * 20 / 400, 1e-9);
+  EXPECT_NEAR(f.intensity[0], 70.2f, 1e-4);
+  // The floor is a parameter: at z_min = 69 both peaks are features, at 71 neither is.
+  cfg.z_min = 69;
+  EXPECT_EQ(rip(decode(img), cfg).points.size(), 2u);
+  cfg.z_min = 71;
+  EXPECT_TRUE(rip(decode(img), cfg).points.empty());
+}
+
 TEST(RipFeatures, WidePlateauGivesOneFeature) {
   cv::Mat img(400, 1000, CV_8UC1, cv::Scalar(0));
   img(cv::Rect(300, 10, 40, 1)).setTo(100);  // 40 bins of equal intensity on row 10

@@ -140,6 +140,10 @@ TEST(CloudToPoints, TruncatedDataAndFieldOutsidePointAreErrors) {
   bad_offset.fields[2].offset = c.point_step - 2;
   EXPECT_FALSE(ros_adapters::cloudToPoints(bad_offset, &pts, &err));
   EXPECT_NE(err.find("outside point_step"), std::string::npos) << err;
+  // An offset whose sum with the field size wraps in 32 bits (found by fuzz_cloud_conversion).
+  bad_offset.fields[2].offset = 0xFFFFFFFFu;
+  EXPECT_FALSE(ros_adapters::cloudToPoints(bad_offset, &pts, &err));
+  EXPECT_NE(err.find("outside point_step"), std::string::npos) << err;
 }
 
 TEST(CloudToPoints, EmptyCloudIsValidAndEmpty) {
@@ -188,6 +192,10 @@ TEST(QualityCloud, HoldsValidPointsWithEntropiesAndScanIndex) {
   h.frame_id = "odom";
   const auto c = ros_adapters::buildQualityCloud(a, b, r, h);
   ASSERT_EQ(c.width * c.height, 2u);
+  // Padded so every float of every point is 4-byte aligned (UBSan: misaligned float access).
+  EXPECT_EQ(c.point_step % 4, 0u);
+  EXPECT_EQ(c.data.size(), 2u * c.point_step);
+  EXPECT_EQ(c.row_step, 2u * c.point_step);
   for (const char* f : {"x", "y", "z", "q", "h_sep", "h_joint", "scan"})
     EXPECT_TRUE(ros_adapters::hasField(c, f)) << f;
   sensor_msgs::PointCloud2ConstIterator<float> x(c, "x"), q(c, "q"), hs(c, "h_sep");

@@ -4,6 +4,8 @@
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <algorithm>
+
 #include "coral_introspection/ros/scan_input.hpp"
 
 using namespace coral_introspection;
@@ -69,6 +71,37 @@ TEST(ImageToSensorScan, WrongEncodingOrSizeIsAnError) {
   ox.polar_format = ros_adapters::PolarFormat::kOxford;
   EXPECT_FALSE(ros_adapters::toSensorScan(polarImage(400, 300, 150), ox, &s, &err));
   EXPECT_FALSE(err.empty());
+}
+
+// Oxford-layout image messages whose row metadata is not one sweep give no features (and so
+// no verdict) but an error naming the problem: reversed row stamps, a stuck encoder.
+TEST(ImageToSensorScan, OxfordRowsThatAreNotOneSweepAreRefused) {
+  sensor_msgs::Image im = polarImage(400, 3779, 1000);
+  for (int r = 0; r < 400; ++r) {
+    uint8_t* row = &im.data[static_cast<std::size_t>(r) * 3779];
+    const int64_t us = 100000000 + 625 * r;  // 100 s + 625 us per row
+    for (int b = 0; b < 8; ++b) row[b] = static_cast<uint8_t>((us >> (8 * b)) & 0xFF);
+    row[8] = (14 * r) & 0xFF;
+    row[9] = (14 * r) >> 8;
+    row[10] = 255;
+  }
+  auto ox = plainRadar();
+  ox.polar_format = ros_adapters::PolarFormat::kOxford;
+  ros_adapters::SensorScan s;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::toSensorScan(im, ox, &s, &err)) << err;
+  EXPECT_EQ(s.scan.features.points.size(), 400u);
+  sensor_msgs::Image reversed = im;  // row r gets the stamp of row 399 - r
+  for (int r = 0; r < 400; ++r)
+    std::copy_n(&im.data[static_cast<std::size_t>(399 - r) * 3779], 8,
+                &reversed.data[static_cast<std::size_t>(r) * 3779]);
+  EXPECT_FALSE(ros_adapters::toSensorScan(reversed, ox, &s, &err));
+  EXPECT_NE(err.find("backwards"), std::string::npos) << err;
+  EXPECT_TRUE(s.scan.features.points.empty());
+  sensor_msgs::Image stuck = im;
+  for (int r = 0; r < 400; ++r) stuck.data[r * 3779 + 8] = stuck.data[r * 3779 + 9] = 0;
+  EXPECT_FALSE(ros_adapters::toSensorScan(stuck, ox, &s, &err));
+  EXPECT_NE(err.find("stuck encoder"), std::string::npos) << err;
 }
 
 TEST(CloudToSensorScan, ReadsDopplerFieldOnlyWhenEnabled) {

@@ -134,14 +134,12 @@ TEST(OxfordToBag, BadInputGivesError) {
   EXPECT_FALSE(ra::writeOxfordBag("/nonexistent_folder", tempBag("none"), ra::OxfordBagOptions(),
                                   nullptr, &err));
   EXPECT_NE(err.find("/nonexistent_folder"), std::string::npos) << err;
-  const std::string root = coral_test::dataDir();
-  if (root.empty())
-    GTEST_SKIP() << "real data not found: set CORAL_DATA_DIR or place ../shared/data";
+  CORAL_REQUIRE_DATA("oxford_radar_tiny");
   ra::OxfordBagOptions opt;
   opt.radar_frame = "odom";  // same as the fixed frame
-  EXPECT_FALSE(ra::writeOxfordBag(root + "/oxford_radar_tiny", tempBag("bad"), opt, nullptr, &err));
+  EXPECT_FALSE(ra::writeOxfordBag(coral_data, tempBag("bad"), opt, nullptr, &err));
   EXPECT_NE(err.find("frames"), std::string::npos) << err;
-  EXPECT_FALSE(ra::writeOxfordBag(root + "/oxford_radar_tiny", "/nonexistent_dir/x.bag",
-                                  ra::OxfordBagOptions(), nullptr, &err));
+  EXPECT_FALSE(ra::writeOxfordBag(coral_data, "/nonexistent_dir/x.bag", ra::OxfordBagOptions(),
+                                  nullptr, &err));
   EXPECT_NE(err.find("/nonexistent_dir/x.bag"), std::string::npos) << err;
 }

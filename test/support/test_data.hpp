@@ -1,4 +1,10 @@
-// Locating the shared real-sensor data for tests; they skip with a message without it.
+// Locating the shared real-sensor data for tests. Without any data a test skips with a
+// message, so the package still tests on a machine that has only the project. Whenever the
+// data is expected, its absence is a failure, never a silent skip:
+// - CORAL_DATA_DIR is set (a misspelled path must not turn the real-data tests off);
+// - the environment variable CI is "true" or "1" (.ci/run exports CI=true);
+// - an environment variable looks like a misspelling of CORAL_DATA_DIR (CORAL_DATA...);
+// - the data root exists but the requested data set in it is missing or unreadable.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -6,23 +12,92 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cstdlib>
+#include <cstring>
 #include <string>
+
+extern char** environ;
 
 namespace coral_test {
 
-// $CORAL_DATA_DIR, else ../shared/data beside the source tree; empty when absent.
-inline std::string dataDir() {
-  auto is_dir = [](const std::string& p) {
-    struct stat st;
-    return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-  };
-  if (const char* env = std::getenv("CORAL_DATA_DIR"); env && is_dir(env)) return env;
-#ifdef CORAL_SOURCE_DIR
-  const std::string guess = std::string(CORAL_SOURCE_DIR) + "/../shared/data";
-  if (is_dir(guess)) return guess;
-#endif
-  return "";
+inline bool isReadableDir(const std::string& p) {
+  struct stat st;
+  return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode) && access(p.c_str(), R_OK | X_OK) == 0;
 }
+
+// True when CI asks for the data: CI=true or CI=1.
+inline bool dataRequiredByCi() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && (std::strcmp(ci, "true") == 0 || std::strcmp(ci, "1") == 0);
+}
+
+// Names of environment variables starting with CORAL_DATA other than CORAL_DATA_DIR.
+inline std::string misspelledDataVariables() {
+  std::string names;
+  for (char** e = environ; e != nullptr && *e != nullptr; ++e) {
+    const std::string kv = *e;
+    const std::string name = kv.substr(0, kv.find('='));
+    if (name.rfind("CORAL_DATA", 0) == 0 && name != "CORAL_DATA_DIR")
+      names += (names.empty() ? "" : ", ") + name;
+  }
+  return names;
+}
+
+// Where the data set `subdir` is, or why it is not there.
+struct DataLookup {
+  std::string path;      // <root>/<subdir> when found
+  std::string problem;   // why not found (empty when found)
+  std::string required;  // why a missing data set is a failure here (empty: it skips)
+};
+
+// ../shared/data beside the (symlink-resolved) source tree.
+inline std::string defaultDataRoot() {
+#ifdef CORAL_SOURCE_DIR
+  return std::string(CORAL_SOURCE_DIR) + "/../shared/data";
+#else
+  return "";
+#endif
+}
+
+// The data set `subdir` ("" = the root) under $CORAL_DATA_DIR, else under default_root.
+inline DataLookup findData(const std::string& subdir,
+                           const std::string& default_root = defaultDataRoot()) {
+  DataLookup d;
+  std::string root;
+  if (const char* env = std::getenv("CORAL_DATA_DIR")) {
+    d.required = "CORAL_DATA_DIR is set";
+    root = env;
+    if (!isReadableDir(root)) {
+      d.problem = "CORAL_DATA_DIR='" + root + "' is not a readable directory";
+      return d;
+    }
+  } else {
+    root = default_root;
+    const std::string typo = misspelledDataVariables();
+    if (!typo.empty()) {
+      d.required = "a CORAL_DATA* variable is set";
+      d.problem = "CORAL_DATA_DIR is not set but " + typo + " is (misspelled?)";
+      return d;
+    }
+    if (dataRequiredByCi()) d.required = "CI is set";
+    if (root.empty() || !isReadableDir(root)) {
+      d.problem = "real data not found: set CORAL_DATA_DIR or place ../shared/data" +
+                  (root.empty() ? std::string() : " (looked in " + root + ")");
+      return d;
+    }
+  }
+  // The root exists: an incomplete data set is a broken setup, whoever runs the tests.
+  if (d.required.empty()) d.required = "the data root " + root + " exists";
+  const std::string path = subdir.empty() ? root : root + "/" + subdir;
+  if (!isReadableDir(path)) {
+    d.problem = "data set '" + path + "' is missing or unreadable";
+    return d;
+  }
+  d.path = path;
+  return d;
+}
+
+// The data root ("" when absent). Prefer CORAL_REQUIRE_DATA, which also fails when required.
+inline std::string dataDir() { return findData("").path; }
 
 // A per-process path in gtest's temp dir, e.g. tempPath("oxford", ".bag").
 inline std::string tempPath(const std::string& name, const std::string& ext) {
@@ -31,9 +106,13 @@ inline std::string tempPath(const std::string& name, const std::string& ext) {
 
 }  // namespace coral_test
 
-// Skips the current test (with the reason in the output) when the data set is missing.
-#define CORAL_REQUIRE_DATA(subdir)                                                     \
-  const std::string coral_data_root = coral_test::dataDir();                           \
-  if (coral_data_root.empty())                                                         \
-    GTEST_SKIP() << "real data not found: set CORAL_DATA_DIR or place ../shared/data"; \
-  const std::string coral_data = coral_data_root + "/" subdir
+// Defines `coral_data`, the directory of the data set `subdir` of the data root; without it
+// the current test skips with the reason, or fails when the data is required (see above).
+#define CORAL_REQUIRE_DATA(subdir)                                                                \
+  const coral_test::DataLookup coral_data_lookup = coral_test::findData(subdir);                  \
+  if (!coral_data_lookup.problem.empty()) {                                                       \
+    if (!coral_data_lookup.required.empty())                                                      \
+      FAIL() << coral_data_lookup.problem << " (required: " << coral_data_lookup.required << ")"; \
+    GTEST_SKIP() << coral_data_lookup.problem;                                                    \
+  }                                                                                               \
+  const std::string coral_data = coral_data_lookup.path

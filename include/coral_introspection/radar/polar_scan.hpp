@@ -41,12 +41,24 @@ struct PolarImageConfig {
   std::string validate() const;  // empty when valid
 };
 
+// Whether the valid rows of a decoded scan are one sweep of a spinning radar, checked
+// before a scan is scored (corrupt rows must give no verdict rather than a wrong one):
+// - row stamps finite, non-decreasing, and last - first <= 1.5 scan_period;
+// - azimuths advancing in one direction (modulo 2 pi) by more than 0 and at most a quarter
+//   turn from one valid row to the next (a stuck encoder does not advance);
+// - together covering at least 90 % of a turn (span plus one mean step) without wrapping
+//   past a full turn.
+// Returns false with a message naming the offending row(s). scan_period [s] >= 0.
+bool checkSweep(const PolarScan& scan, double scan_period, std::string* error);
+
 // Oxford layout (400 x 3779 mono8): cols 0-7 int64 LE timestamp [us], cols 8-9 uint16 LE
 // encoder (azimuth = value / 5600 * 2 pi), col 10 valid flag (255), cols 11.. 3768 range bins.
 // The azimuth is used as is: with x = r cos(a), y = r sin(a) the dataset's GT radar odometry
 // is consistent (checked on the data, see README "Radar front end"). Rows whose flag is not
-// 255 or whose encoder value is >= 5600 are marked invalid. scan.stamp = first row's time
-// (equals the PNG file name). Fails (with a message) on wrong size/type or no valid row.
+// 255, whose encoder value is >= 5600 or whose stamp is <= 0 are marked invalid.
+// scan.stamp = first valid row's time (equals the PNG file name). Fails (with a message) on
+// wrong size/type, no valid row, or valid rows that are not one sweep (checkSweep with the
+// CTS350-X period of 0.25 s): reversed or corrupt row stamps, a stuck encoder.
 // Both decoders: out->power is a view of the input's buffer (no copy); keep the input alive
 // (or clone) while the scan is used.
 bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error);
