@@ -29,9 +29,38 @@ TEST(Mailbox, NoticesAreBoundedOldestDropped) {
   box.put(1, false);
   box.put(2, false);
   box.put(3, false);
-  EXPECT_EQ(box.dropped(), 1u);
+  EXPECT_EQ(box.noticesLost(), 1u);
+  EXPECT_EQ(box.dropped(), 0u);  // no scan was replaced
   EXPECT_EQ(box.take(), 2);
   EXPECT_EQ(box.take(), 3);
+}
+
+// A replaced scan leaves its notice in place: the taker sees every scan in arrival order,
+// the dropped ones as notices (here: negated).
+TEST(Mailbox, DroppedScanLeavesANoticeInOrder) {
+  Mailbox<int> box(10, [](const int& scan) { return -scan; });
+  box.put(1, true);
+  box.put(2, true);  // 1 -> notice -1
+  box.put(3, true);  // 2 -> notice -2
+  box.put(100, false);
+  EXPECT_EQ(box.dropped(), 2u);
+  EXPECT_EQ(box.take(), -1);
+  EXPECT_EQ(box.take(), -2);
+  EXPECT_EQ(box.take(), 3);
+  EXPECT_EQ(box.take(), 100);
+  EXPECT_EQ(box.noticesLost(), 0u);
+}
+
+// Drop notices count against the bound too: a flood of scans keeps memory bounded.
+TEST(Mailbox, DropNoticesAreBounded) {
+  Mailbox<int> box(3, [](const int& scan) { return -scan; });
+  for (int i = 1; i <= 10; ++i) box.put(i, true);
+  EXPECT_EQ(box.dropped(), 9u);
+  EXPECT_EQ(box.noticesLost(), 6u);  // notices -1 .. -6
+  EXPECT_EQ(box.take(), -7);
+  EXPECT_EQ(box.take(), -8);
+  EXPECT_EQ(box.take(), -9);
+  EXPECT_EQ(box.take(), 10);
 }
 
 TEST(Mailbox, CloseWakesABlockedTakerAndRefusesPuts) {
