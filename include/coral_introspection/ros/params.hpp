@@ -23,6 +23,13 @@ struct NodeConfig {
   std::string fixed_frame = "odom";
   int queue_size = 10;      // scans waiting for TF in the message filter
   double tf_timeout = 1.0;  // [s] wall time a scan may wait for TF before it counts as failed
+  // [s] worker time per scan (de-skew, CorAl, classifier) above which diagnostics warn, also
+  // while the scan is still being computed; 0 = off. About the scan period: beyond it, scans
+  // are dropped.
+  double time_budget = 1.0;
+  // [s] testing only: the worker sleeps this long after each judged pair (a deliberately
+  // slow pair for the responsiveness tests). 0 in any real use.
+  double testing_pair_delay = 0.0;
   // pairing/, coral/, classifier/, motion_compensation/, doppler/: the Introspector's config.
   // Polar input requires coral/dimension 2 (RIP features are planar: 3D covariances of
   // z = 0 points are singular), checked by validate() rather than switched silently.
