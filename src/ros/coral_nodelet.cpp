@@ -69,6 +69,7 @@ class CoralNodelet : public nodelet::Nodelet {
     introspector_ = online::Introspector(config_.online);
     stats_.doppler = config_.online.doppler.enabled;
     stats_.time_budget = config_.time_budget;
+    stats_.mailbox = [this] { return std::make_pair(mailbox_.dropped(), mailbox_.noticesLost()); };
     worker_ = std::thread(&CoralNodelet::work, this);
     source_ = std::make_unique<ros_adapters::ScanSource>(nh, config_, &stats_, [this](ScanEvent e) {
       // A posed scan replaces a scan still waiting for the worker (which becomes a
@@ -201,8 +202,6 @@ class CoralNodelet : public nodelet::Nodelet {
           outputs_.publish(*r, done.status, job.header, job.receipt, cfg.fixed_frame, opt);
     }
     done.seconds = (ros::WallTime::now() - start).toSec();
-    done.dropped = mailbox_.dropped();
-    done.notices_lost = mailbox_.noticesLost();
     stats_.finished(done);
   }
 

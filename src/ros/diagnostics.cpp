@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <tuple>
 
 #include "coral_introspection/AlignmentQuality.h"
 
@@ -86,8 +87,6 @@ void Stats::finished(const WorkDone& d) {
   std::lock_guard<std::mutex> lock(mutex_);
   busy_.reset();
   if (d.counters) counters_ = *d.counters;
-  dropped_ = d.dropped;
-  notices_lost_ = d.notices_lost;
   Window& w = window_;
   ++w.items;
   if (d.counters) {  // went through the Introspector (not a refusal or drop notice)
@@ -132,8 +131,13 @@ void Stats::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     s << n << " " << what;
     problems.push_back(s.str());
   };
+  if (mailbox) std::tie(dropped_, notices_lost_) = mailbox();
   std::ostringstream overload, budget;
-  overload << "scan(s) dropped: worker busy (" << mean_seconds << " s per scan)";
+  overload << "scan(s) dropped: worker busy (";
+  if (w.computed > 0 || busy == 0.0)
+    overload << mean_seconds << " s per scan)";
+  else
+    overload << "on one scan for " << busy << " s)";
   add(dropped_ - last_dropped_, overload.str());
   if (time_budget > 0.0 && busy > time_budget) {
     std::ostringstream s;

@@ -37,6 +37,7 @@ void usage(const char* argv0) {
       "  --rate HZ           clouds per second (10)\n"
       "  --duration S        measuring time (60)   --warmup S  not measured (3)\n"
       "  --report S          interim line every S seconds (10)\n"
+      "  --settle S          wait for the last verdicts after the stream (2)\n"
       "  --stride K          keep every K-th point of the frame (1)\n"
       "  --noise M           Gaussian noise per coordinate [m] (0.01)\n"
       "  --speed M/S (5)  --yaw-rate RAD/S (0.1)  sensor motion\n"
@@ -70,6 +71,8 @@ bool parse(int argc, char** argv, Args* a) {
       num(&a->warmup);
     } else if (k == "--report" && v) {
       num(&a->report);
+    } else if (k == "--settle" && v) {
+      num(&a->settle);
     } else if (k == "--stride" && v) {
       a->stream.stride = std::atoi(argv[++i]);
     } else if (k == "--noise" && v) {

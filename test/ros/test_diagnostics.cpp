@@ -42,6 +42,8 @@ class Diagnostics : public ::testing::Test {
 TEST_F(Diagnostics, DropsAndTfFailuresAreReportedApart) {
   Stats s;
   s.time_budget = 10.0;
+  uint64_t dropped = 0;
+  s.mailbox = [&] { return std::make_pair(dropped, uint64_t{0}); };
   WorkDone pair;
   pair.counters = &counters_;
   pair.status = AlignmentQuality::VERDICT;
@@ -51,7 +53,7 @@ TEST_F(Diagnostics, DropsAndTfFailuresAreReportedApart) {
   WorkDone drop;
   drop.status = AlignmentQuality::DROPPED;
   drop.reason = "dropped";
-  drop.dropped = 3;
+  dropped = 3;
   s.finished(drop);
   Report r = diagnose(s);
   EXPECT_EQ(r.level, diagnostic_msgs::DiagnosticStatus::WARN);
@@ -69,7 +71,6 @@ TEST_F(Diagnostics, DropsAndTfFailuresAreReportedApart) {
   no_pose.status = AlignmentQuality::NO_POSE;
   no_pose.reason = "no transform odom <- 'lidar'";
   no_pose.problem = true;
-  no_pose.dropped = 3;  // no new drop
   s.finished(no_pose);
   r = diagnose(s);
   EXPECT_EQ(r.summary, "1 TF failure(s): no transform odom <- 'lidar'");
@@ -88,6 +89,11 @@ TEST_F(Diagnostics, ScanOverTimeBudgetIsReportedWhileItRuns) {
   EXPECT_EQ(r.level, diagnostic_msgs::DiagnosticStatus::WARN);
   EXPECT_NE(r.summary.find("worker busy for"), std::string::npos) << r.summary;
   EXPECT_NE(r.summary.find("t = 12.5"), std::string::npos) << r.summary;
+  s.mailbox = [] { return std::make_pair(uint64_t{4}, uint64_t{0}); };  // arriving meanwhile
+  r = diagnose(s);
+  EXPECT_NE(r.summary.find("4 scan(s) dropped: worker busy (on one scan for"), std::string::npos)
+      << r.summary;
+  EXPECT_EQ(r.values["scans dropped (worker busy)"], "4");
   WorkDone done;
   done.counters = &counters_;
   done.status = AlignmentQuality::VERDICT;

@@ -10,6 +10,7 @@
 #include <ros/time.h>
 #include <std_msgs/Header.h>
 
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -42,7 +43,6 @@ struct WorkDone {
   bool problem = false;                        // the reason is a problem ("last error")
   double seconds = 0.0;                        // [s] worker wall time for the item
   double latency = 0.0;                        // [s] arrival -> publication (AlignmentQuality)
-  uint64_t dropped = 0, notices_lost = 0;      // mailbox totals
 };
 
 class Stats {
@@ -50,6 +50,9 @@ class Stats {
   // Set before the threads start.
   bool doppler = false;      // report the Doppler counters
   double time_budget = 0.0;  // [s] worker time per scan reported when exceeded; 0 = off
+  // The mailbox's totals (scans dropped, notices lost), read at each report so drops show
+  // while the worker is stuck on one scan.
+  std::function<std::pair<uint64_t, uint64_t>()> mailbox;
 
   // A scan message arrived from `publisher` (its caller id: header.seq gaps per publisher).
   void arrived(const std_msgs::Header& header, const std::string& publisher);
