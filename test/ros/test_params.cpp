@@ -112,7 +112,7 @@ TEST(Params, OutOfRangeValueNamesParamValueAndRange) {
   EXPECT_FALSE(ros_adapters::loadNodeConfig(group("coral", group("radius", -0.5)), &c, &err));
   EXPECT_NE(err.find("coral/radius"), std::string::npos) << err;
   EXPECT_NE(err.find("-0.5"), std::string::npos) << err;
-  EXPECT_NE(err.find("> 0"), std::string::npos) << err;
+  EXPECT_NE(err.find("[0.01, 10]"), std::string::npos) << err;
 
   c = ros_adapters::NodeConfig();
   EXPECT_FALSE(
