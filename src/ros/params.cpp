@@ -102,6 +102,7 @@ class Reader {
           out->push_back("unknown parameter ~" + g + "/" + it->first + " (ignored)");
     }
   }
+  const std::set<std::string>& used() const { return used_; }
   const std::string& error() const { return error_; }
   bool fail(const std::string& message) {
     error_ = message;
@@ -217,6 +218,14 @@ std::string NodeConfig::validate() const {
   if (online.doppler.enabled && velocity_field.empty())
     add("doppler/velocity_field must not be empty when doppler/enabled");
   return e.str();
+}
+
+std::vector<std::string> nodeParameterNames() {
+  const XmlRpcValue empty;
+  Reader r(empty);
+  NodeConfig c;
+  readAll(r, &c);
+  return {r.used().begin(), r.used().end()};
 }
 
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,

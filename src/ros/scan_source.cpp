@@ -89,6 +89,11 @@ void ScanSource::onArrival(const Event<M>& event, tf2_ros::MessageFilter<M>& fil
                                                     " jumped back in time (looping bag?): TF "
                                                     "buffer cleared");
         stats_->waitForTf(h, event.getReceiptTime());
+        // A scan of before a time jump whose transforms were cleared (the next loop's TF
+        // overtook it): posed from the snapshot at once, it would wait in vain otherwise.
+        geometry_msgs::TransformStamped before;
+        if (tf_feed_.lookupBeforeJump(cfg_.fixed_frame, h.frame_id, h.stamp, &before))
+          return onScan(event);
         filter.add(event);
       },
       [this](const std::string& e) { countError(e); });
@@ -137,8 +142,12 @@ void ScanSource::onScan(const Event<M>& event) {
           return refuse(msg.header, *receipt, &InputCounters::bad_inputs,
                         "bad input (" + describe(msg.header) + "): " + error);
         try {
-          s.scan.T_fixed_sensor = tf2::transformToEigen(
-              tf_buffer_.lookupTransform(cfg_.fixed_frame, msg.header.frame_id, msg.header.stamp));
+          // Before-the-jump first: after a clear the live buffer no longer has its pose.
+          geometry_msgs::TransformStamped t;
+          if (!tf_feed_.lookupBeforeJump(cfg_.fixed_frame, msg.header.frame_id, msg.header.stamp,
+                                         &t))
+            t = tf_buffer_.lookupTransform(cfg_.fixed_frame, msg.header.frame_id, msg.header.stamp);
+          s.scan.T_fixed_sensor = tf2::transformToEigen(t);
         } catch (const tf2::TransformException& e) {
           return noPose(msg.header, *receipt, e.what());
         }

@@ -35,9 +35,45 @@ bool TfFeed::clearBefore(double stamp, const std::string& reason) {
 }
 
 void TfFeed::clearLocked(const std::string& reason) {
+  // Keep what scans of before the jump may still need (see the header).
+  before_jump_ = std::make_unique<tf2::BufferCore>();
+  for (const auto& [child, r] : statics_)
+    before_jump_->setTransform(r.transform, r.authority, true);
+  for (const Received& r : recent_) before_jump_->setTransform(r.transform, r.authority, false);
+  recent_.clear();
   buffer_->clear();
   jumps_.reset();
   if (on_clear_) on_clear_(reason);
+}
+
+bool TfFeed::lookupBeforeJump(const std::string& target, const std::string& source,
+                              const ros::Time& stamp, geometry_msgs::TransformStamped* out) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!before_jump_ || !(stamp.toSec() > jumps_.newest() + kJumpBack)) return false;
+  try {
+    *out = before_jump_->lookupTransform(target, source, stamp);
+    return true;
+  } catch (const tf2::TransformException&) {
+    return false;
+  }
+}
+
+void TfFeed::insertLocked(const geometry_msgs::TransformStamped& t, const std::string& authority,
+                          bool is_static) {
+  if (is_static) {
+    statics_[t.child_frame_id] = {t, authority};
+  } else {
+    recent_.push_back({t, authority});
+    const double keep_from = jumps_.newest() - kKeep;
+    while (recent_.size() > 10000 ||
+           (!recent_.empty() && recent_.front().transform.header.stamp.toSec() < keep_from))
+      recent_.pop_front();
+  }
+  try {
+    buffer_->setTransform(t, authority, is_static);
+  } catch (const std::exception& e) {  // tf2 reports bad data through its own log too
+    ROS_WARN_THROTTLE(5.0, "TF from %s refused: %s", authority.c_str(), e.what());
+  }
 }
 
 void TfFeed::onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event, bool is_static) {
@@ -62,11 +98,7 @@ void TfFeed::onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event, boo
         jumps_.offer(t.child_frame_id, t.header.stamp.toSec());
       }
     }
-    try {
-      buffer_->setTransform(t, authority, is_static);
-    } catch (const std::exception& e) {  // tf2 reports bad data through its own log too
-      ROS_WARN_THROTTLE(5.0, "TF from %s refused: %s", authority.c_str(), e.what());
-    }
+    insertLocked(t, authority, is_static);
   }
 }
 

@@ -168,6 +168,7 @@ StreamSummary VerdictMonitor::summary() {
     const bool judged =
         m.status == AlignmentQuality::VERDICT || m.status == AlignmentQuality::INVALID_PAIR;
     if (m.status == AlignmentQuality::VERDICT) ++s.verdicts;
+    if (m.status != AlignmentQuality::VERDICT && m.reason.empty()) ++s.without_reason;
     if (judged) {
       ++s.judged;
       age.push_back(x.age);

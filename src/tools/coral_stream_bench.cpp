@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
     std::printf("%s%s %zu", first ? "" : ", ", status < 6 ? names[status] : "?", n);
     first = false;
   }
-  std::printf(")\n");
+  std::printf("); without a verdict and without a reason: %zu\n", s.without_reason);
   std::printf("verdicts/s:            %.2f (CorAl ran: %.2f pairs/s)\n", s.verdicts / measured,
               s.judged / measured);
   std::printf(

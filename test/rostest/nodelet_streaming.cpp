@@ -70,6 +70,7 @@ TEST_F(Streaming, OverloadDropsOldestScansAndSaysSo) {
   ros::WallDuration(1.5).sleep();  // one more diagnostics report
   const ra::StreamSummary s = monitor.summary();
   EXPECT_EQ(s.messages, sent) << "one message per scan";
+  EXPECT_EQ(s.without_reason, 0u) << "every message without a verdict says why";
   const std::size_t dropped =
       s.by_status.count(AlignmentQuality::DROPPED) ? s.by_status.at(AlignmentQuality::DROPPED) : 0;
   EXPECT_GE(dropped, sent / 3) << "at most ~1/3 can be judged";
@@ -138,38 +139,58 @@ TEST_F(Streaming, ServiceAndDiagnosticsAnswerWhileAPairRuns) {
 
 // A short sequence published twice, the second time 100 s earlier (a looping bag without
 // --clock: longer than tf2's 10 s cache, so the replayed TF would be refused as too old):
-// the second loop's first pair is judged.
+// the second loop's first pair is judged. The second loop's first transform overtakes the
+// first loop's last scan (as in `rosbag play -l`: a scan message is larger than a
+// transform): that scan is still judged, with its pose from before the jump.
 TEST_F(Streaming, LoopingSequenceIsJudgedFromItsFirstPair) {
   Collector<AlignmentQuality> all(nh_, "/lidar/alignment", keepAll<AlignmentQuality>);
   ros::Publisher pub = nh_.advertise<sensor_msgs::PointCloud2>("/lidar/scan", 10);
   ASSERT_TRUE(waitForSubscriber(pub));
   ros::WallDuration(1.0).sleep();
   const ros::Time now = ros::Time::now();
-  for (double loop_start : {-50.0, -150.0}) {
-    std::vector<ros::Time> stamps;
-    for (int k = 0; k < 4; ++k) {
-      stamps.push_back(now + ros::Duration(loop_start + 0.1 * k));
-      scan(pub, "loop_lidar", 0.1 * k, stamps.back());
-    }
+  std::vector<std::vector<ros::Time>> loops(2);
+  for (int k = 0; k < 4; ++k) {
+    loops[0].push_back(now + ros::Duration(-50.0 + 0.1 * k));
+    loops[1].push_back(now + ros::Duration(-150.0 + 0.1 * k));
+  }
+  for (int k = 0; k < 3; ++k) scan(pub, "loop_lidar", 0.1 * k, loops[0][k]);
+  sendTf(br_, trajectory(0.3), loops[0][3], "loop_lidar");
+  ros::WallDuration(0.03).sleep();
+  sendTf(br_, trajectory(0.0), loops[1][0], "loop_lidar");  // the next loop's first TF
+  ros::WallDuration(0.1).sleep();
+  pub.publish(lidarCloud(trajectory(0.3), loops[0][3], "loop_lidar", rng_, 1));
+  ros::WallDuration(0.1).sleep();
+  pub.publish(lidarCloud(trajectory(0.0), loops[1][0], "loop_lidar", rng_, 1));
+  ros::WallDuration(0.1).sleep();
+  for (int k = 1; k < 4; ++k) scan(pub, "loop_lidar", 0.1 * k, loops[1][k]);
+
+  for (const auto& stamps : loops) {
+    const double loop_start = (stamps[0] - now).toSec();
     const auto first = messageOf(all, stamps[0]);
-    const auto second = messageOf(all, stamps[1]);
-    ASSERT_TRUE(first && second) << "loop at " << loop_start;
+    ASSERT_TRUE(first) << "loop at " << loop_start;
     EXPECT_EQ(first->status, AlignmentQuality::NOT_PAIRED) << first->reason;
-    EXPECT_EQ(second->status, AlignmentQuality::VERDICT)
-        << "loop at " << loop_start << ": " << second->reason;
-    EXPECT_TRUE(second->aligned);
-    EXPECT_EQ(second->stamp_a, stamps[0]);
+    for (int k = 1; k < 4; ++k) {
+      const auto m = messageOf(all, stamps[k]);
+      ASSERT_TRUE(m) << "loop at " << loop_start << ", scan " << k;
+      EXPECT_EQ(m->status, AlignmentQuality::VERDICT)
+          << "loop at " << loop_start << ", scan " << k << ": " << m->reason;
+      EXPECT_TRUE(m->aligned) << "loop at " << loop_start << ", scan " << k;
+      EXPECT_EQ(m->stamp_a, stamps[k - 1]);
+    }
   }
   ros::WallDuration(1.2).sleep();
   Collector<diagnostic_msgs::DiagnosticArray> diag(nh_, "/diagnostics");
   ASSERT_TRUE(diag.waitFor(3, 5.0));
-  unsigned long clears = 0;
+  unsigned long clears = 0, tf_failures = 0;
   for (const auto& a : diag.all())
     for (const auto& st : a.status)
       if (st.name.find("lidar/coral") != std::string::npos)
-        for (const auto& kv : st.values)
+        for (const auto& kv : st.values) {
           if (kv.key == "tf buffer clears") clears = std::stoul(kv.value);
+          if (kv.key == "tf failures") tf_failures = std::stoul(kv.value);
+        }
   EXPECT_GE(clears, 1u);
+  EXPECT_EQ(tf_failures, 0u);
 }
 
 // A scan stamped 0 is refused with a reason and does not cost the next pair.
@@ -191,6 +212,13 @@ TEST_F(Streaming, UnstampedScanIsRefusedAndTheNextPairJudged) {
   EXPECT_EQ(next->status, AlignmentQuality::VERDICT) << next->reason;
   EXPECT_EQ(next->stamp_a, a);
   EXPECT_TRUE(next->aligned);
+  // Counted and named in diagnostics too.
+  ra::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
+  ros::WallDuration(2.2).sleep();
+  const auto d = monitor.diagnostics();
+  EXPECT_EQ(value(d, "unstamped scans refused"), 1u);
+  ASSERT_TRUE(d.count("last error"));
+  EXPECT_NE(d.at("last error").find("stamp is 0"), std::string::npos) << d.at("last error");
 }
 
 // TF arriving after tf_timeout: the scan was reported (NO_POSE, tf failure) and is not
@@ -244,6 +272,13 @@ TEST_F(Streaming, IntegerPointFieldsAreRefused) {
   ASSERT_TRUE(m);
   EXPECT_EQ(m->status, AlignmentQuality::REFUSED);
   EXPECT_NE(m->reason.find("field 'x' is int16"), std::string::npos) << m->reason;
+  ra::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
+  ros::WallDuration(2.2).sleep();
+  const auto d = monitor.diagnostics();
+  EXPECT_GE(value(d, "bad inputs"), 1u);
+  ASSERT_TRUE(d.count("last no-verdict reason"));
+  EXPECT_NE(d.at("last no-verdict reason").find("field 'x' is int16"), std::string::npos)
+      << d.at("last no-verdict reason");
 }
 
 }  // namespace

@@ -51,6 +51,10 @@ struct NodeConfig {
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,
                     std::vector<std::string>* warnings = nullptr);
 
+// Every parameter loadNodeConfig reads ("group/name", sorted): the README's table is
+// checked against it.
+std::vector<std::string> nodeParameterNames();
+
 // The runtime-safe parameters (cfg/Coral.cfg) <-> NodeConfig; R is the generated
 // dynamic_reconfigure struct (coral_introspection::CoralConfig).
 template <class R>

@@ -67,9 +67,10 @@ struct StreamSummary {
   double seconds = 0.0;      // [s] wall time of the window
   std::size_t messages = 0;  // AlignmentQuality messages
   std::map<uint8_t, std::size_t> by_status;
-  std::size_t verdicts = 0;   // status VERDICT
-  std::size_t judged = 0;     // VERDICT or INVALID_PAIR (CorAl ran)
-  double verdict_rate = 0.0;  // [1/s]
+  std::size_t verdicts = 0;        // status VERDICT
+  std::size_t judged = 0;          // VERDICT or INVALID_PAIR (CorAl ran)
+  std::size_t without_reason = 0;  // no verdict (status != VERDICT) and an empty reason
+  double verdict_rate = 0.0;       // [1/s]
   double latency_median = 0.0, latency_p95 = 0.0, latency_max = 0.0;  // [s] msg.latency
   double age_median = 0.0, age_p95 = 0.0;  // [s] receipt here - stamp_b (judged messages)
   std::size_t loops = 0;                   // complete loops (between two backward time jumps)
