@@ -88,3 +88,28 @@ TEST(Mailbox, WorkerSeesEveryScanWhenFastEnough) {
   EXPECT_EQ(box.dropped(), 0u);
   EXPECT_EQ(taken.load(), 50);
 }
+
+// Two scans in a burst (a looping bag restarting) while the worker is idle: the first is
+// handed to it, the second waits, nothing is dropped. Once the worker is busy, a newer scan
+// replaces the waiting one (counted).
+TEST(Mailbox, BurstWhileTheTakerIsIdleDropsNothing) {
+  Mailbox<int> box;
+  std::atomic<int> first{-1}, second{-1};
+  std::atomic<bool> go{false};
+  std::thread worker([&] {
+    first = box.take().value_or(0);
+    while (!go.load()) std::this_thread::yield();  // busy with `first`
+    second = box.take().value_or(0);
+  });
+  while (box.idleTakers() == 0) std::this_thread::yield();
+  box.put(1, true);  // handed to the idle worker (even before it runs)
+  box.put(2, true);  // microseconds later
+  EXPECT_EQ(box.dropped(), 0u) << "scan 1 was handed to an idle worker";
+  while (first.load() < 0) std::this_thread::yield();
+  EXPECT_EQ(first.load(), 1);
+  box.put(3, true);  // the worker is busy: 3 replaces 2
+  EXPECT_EQ(box.dropped(), 1u);
+  go = true;
+  worker.join();
+  EXPECT_EQ(second.load(), 3);
+}

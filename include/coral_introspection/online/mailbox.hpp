@@ -4,6 +4,9 @@
 // are not droppable (small notices such as a TF failure) queue in order, up to a bound.
 // With a drop_notice function, a replaced scan leaves a notice in its place (e.g. "dropped:
 // worker busy"), so the taker still learns about every scan, in arrival order.
+// A scan put while a taker is idle in take() is handed to it and never replaced: a burst of
+// two scans within microseconds (a looping bag restarting) costs no scan while the taker is
+// only not yet scheduled; scans are dropped only while the taker is busy.
 #pragma once
 
 #include <condition_variable>
@@ -30,7 +33,7 @@ class Mailbox {
       if (closed_) return false;
       if (droppable) {
         for (auto it = items_.begin(); it != items_.end(); ++it) {
-          if (!it->droppable) continue;
+          if (!it->droppable || it->handed) continue;
           ++dropped_;  // at most one scan waits: the older one is never judged
           if (drop_notice_) {
             it->item = drop_notice_(it->item);
@@ -45,8 +48,10 @@ class Mailbox {
       // Bounded notices: the oldest notice goes (counted). max_notices >= 1.
       const std::size_t incoming = droppable ? 0 : 1;
       while (notices_ + incoming > max_notices_ && notices_ > 0) eraseOldestNotice();
-      items_.push_back({std::move(item), droppable});
+      const bool handed = droppable && idle_takers_ > handed_;  // an idle taker will get it
+      items_.push_back({std::move(item), droppable, handed});
       if (!droppable) ++notices_;
+      if (handed) ++handed_;
     }
     cv_.notify_one();
     return true;
@@ -55,11 +60,14 @@ class Mailbox {
   // Blocks until an item is available (oldest first) or the mailbox is closed (nullopt).
   std::optional<T> take() {
     std::unique_lock<std::mutex> lock(mutex_);
+    ++idle_takers_;
     cv_.wait(lock, [this] { return closed_ || !items_.empty(); });
+    --idle_takers_;
     if (closed_) return std::nullopt;
     Entry e = std::move(items_.front());
     items_.pop_front();
     if (!e.droppable) --notices_;
+    if (e.handed) --handed_;
     return std::move(e.item);
   }
 
@@ -76,6 +84,10 @@ class Mailbox {
   uint64_t dropped() const {  // scans replaced by a newer scan before they were taken
     std::lock_guard<std::mutex> lock(mutex_);
     return dropped_;
+  }
+  std::size_t idleTakers() const {  // takers blocked in take()
+    std::lock_guard<std::mutex> lock(mutex_);
+    return idle_takers_;
   }
   uint64_t noticesLost() const {  // notices discarded because max_notices were waiting
     std::lock_guard<std::mutex> lock(mutex_);
@@ -95,11 +107,13 @@ class Mailbox {
   struct Entry {
     T item;
     bool droppable;
+    bool handed = false;  // promised to an idle taker: not replaced
   };
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Entry> items_;
   std::size_t max_notices_, notices_ = 0;
+  std::size_t idle_takers_ = 0, handed_ = 0;  // takers in take(); waiting items handed to them
   std::function<T(const T&)> drop_notice_;
   uint64_t dropped_ = 0, notices_lost_ = 0;
   bool closed_ = false;
