@@ -27,6 +27,8 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
   if (!ok) {
     res->result = toMessage(core::CoralResult(), core::Verdict(), ha, ha.stamp, stamp_b);
     res->error = "request refused: " + error;
+    res->result.status = AlignmentQuality::REFUSED;
+    res->result.reason = res->error;
     return false;
   }
   core::Scan a, b;
@@ -34,6 +36,7 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
   b.points = std::move(sb.scan.features.points);
   const online::PairJudgement j = online::judgePair(std::move(a), b, T_a_b, cfg.online, false);
   res->result = toMessage(j.coral, j.verdict, ha, ha.stamp, stamp_b);
+  res->result.reason = j.reason;
   res->error = j.reason;
   return true;
 }

@@ -42,25 +42,9 @@ double load(const uint8_t* p) {
   return static_cast<double>(v);
 }
 
+// Fields are float32 or float64 (findField refuses the rest).
 double readValue(const uint8_t* p, uint8_t datatype) {
-  switch (datatype) {
-    case PointField::INT8:
-      return load<int8_t>(p);
-    case PointField::UINT8:
-      return load<uint8_t>(p);
-    case PointField::INT16:
-      return load<int16_t>(p);
-    case PointField::UINT16:
-      return load<uint16_t>(p);
-    case PointField::INT32:
-      return load<int32_t>(p);
-    case PointField::UINT32:
-      return load<uint32_t>(p);
-    case PointField::FLOAT32:
-      return load<float>(p);
-    default:
-      return load<double>(p);
-  }
+  return datatype == PointField::FLOAT32 ? load<float>(p) : load<double>(p);
 }
 
 struct FieldRef {
@@ -68,7 +52,15 @@ struct FieldRef {
   uint8_t datatype = 0;
 };
 
-// Finds a usable field: present, known type, inside point_step.
+const char* typeName(uint8_t datatype) {
+  static const char* names[] = {"?",     "int8",   "uint8",   "int16",  "uint16",
+                                "int32", "uint32", "float32", "float64"};
+  return datatype <= PointField::FLOAT64 ? names[datatype] : "?";
+}
+
+// Finds a usable field: present, floating point, inside point_step. Integer fields are
+// refused rather than read as metres (or m/s): drivers that store integers store scaled
+// values (mm, cm, 1/256 m) whose unit the message does not state.
 bool findField(const sensor_msgs::PointCloud2& c, const std::string& name, FieldRef* f,
                std::string* error) {
   for (const auto& pf : c.fields) {
@@ -76,6 +68,12 @@ bool findField(const sensor_msgs::PointCloud2& c, const std::string& name, Field
     const int size = typeSize(pf.datatype);
     if (size == 0) {
       *error = "field '" + name + "' has unknown datatype " + std::to_string(pf.datatype);
+      return false;
+    }
+    if (pf.datatype != PointField::FLOAT32 && pf.datatype != PointField::FLOAT64) {
+      *error = "field '" + name + "' is " + typeName(pf.datatype) +
+               ": only float32/float64 are read (an integer field is a scaled value of "
+               "unknown unit; convert it to metres in float32 before CorAl)";
       return false;
     }
     // In 64 bits: a uint32 offset near 2^32 would wrap past the check and read far outside.
@@ -236,6 +234,7 @@ AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict&
   m.header = header;
   m.stamp_a = stamp_a;
   m.stamp_b = stamp_b;
+  m.status = result.valid ? AlignmentQuality::VERDICT : AlignmentQuality::INVALID_PAIR;
   m.valid = result.valid;
   m.aligned = result.valid && verdict.aligned;
   m.probability = result.valid ? verdict.probability : 0.0;

@@ -1,8 +1,11 @@
 // CoralNodelet: the ROS adapter of online::Introspector. The input side (ScanSource)
 // converts messages and looks up TF, then hands each posed scan to one worker thread
 // through a newest-wins mailbox; the worker runs the Introspector (pairing, de-skew, CorAl,
-// classifier, Doppler) and publishes. No lock is held while CorAl runs, so diagnostics,
-// dynamic_reconfigure and check_alignment stay responsive.
+// classifier, Doppler) and publishes one AlignmentQuality per input scan: the verdict, or
+// why there is none (refused, no TF, dropped while the worker was busy, not paired). No lock
+// is held while CorAl runs, and the service and the diagnostics timer run on the nodelet's
+// multi-threaded queue, so diagnostics, dynamic_reconfigure and check_alignment stay
+// responsive while a pair is computed (doc/online_behaviour.md).
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <nodelet/nodelet.h>
@@ -25,6 +28,7 @@ namespace coral_introspection {
 
 using ReconfigureConfig = coral_introspection::CoralConfig;  // generated from cfg/Coral.cfg
 using ros_adapters::NodeConfig;
+using ros_adapters::ScanEvent;
 
 class CoralNodelet : public nodelet::Nodelet {
  public:
@@ -36,10 +40,15 @@ class CoralNodelet : public nodelet::Nodelet {
   }
 
  private:
-  struct Job {  // a converted scan (with or without pose) on its way to the worker
-    online::ScanInput scan;
-    std_msgs::Header header;
-  };
+  // A scan replaced in the mailbox leaves this notice in its place (published in order).
+  static ScanEvent dropNotice(const ScanEvent& scan) {
+    ScanEvent e;
+    e.kind = ScanEvent::Kind::kDropped;
+    e.header = scan.header;
+    e.receipt = scan.receipt;
+    e.reason = "dropped: the worker was still busy with an earlier scan (newest scan wins)";
+    return e;
+  }
 
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
@@ -54,28 +63,35 @@ class CoralNodelet : public nodelet::Nodelet {
       throw std::runtime_error("CoralNodelet: invalid parameters: " + error);  // load fails
     }
     for (const auto& w : warnings) NODELET_WARN("%s", w.c_str());
+    if (config_.testing_pair_delay > 0.0)
+      NODELET_WARN("testing/pair_delay = %.3g s: every pair is slowed down (tests only)",
+                   config_.testing_pair_delay);
     introspector_ = online::Introspector(config_.online);
     stats_.doppler = config_.online.doppler.enabled;
+    stats_.time_budget = config_.time_budget;
+    stats_.mailbox = [this] { return std::make_pair(mailbox_.dropped(), mailbox_.noticesLost()); };
     worker_ = std::thread(&CoralNodelet::work, this);
-    source_ = std::make_unique<ros_adapters::ScanSource>(
-        nh, config_, &stats_, [this](online::ScanInput scan, const std_msgs::Header& header) {
-          // A posed scan replaces a scan still waiting for the worker (counted); a TF
-          // failure notice never replaces anything.
-          const bool droppable = scan.T_fixed_sensor.has_value();
-          mailbox_.put(Job{std::move(scan), header}, droppable);
-        });
+    source_ = std::make_unique<ros_adapters::ScanSource>(nh, config_, &stats_, [this](ScanEvent e) {
+      // A posed scan replaces a scan still waiting for the worker (which becomes a
+      // "dropped" notice); notices (refused, no TF) never replace anything.
+      const bool droppable = e.kind == ScanEvent::Kind::kScan;
+      mailbox_.put(std::move(e), droppable);
+    });
 
+    // Service and diagnostics on the multi-threaded queue: they answer even while the
+    // nodelet's own queue is busy with input.
+    ros::NodeHandle& mt = getMTNodeHandle();
     updater_ = std::make_shared<diagnostic_updater::Updater>(nh, pnh, getName());
     updater_->setHardwareID("coral_introspection");
     updater_->add("CorAl alignment", &stats_, &ros_adapters::Stats::diagnose);
-    timer_ = nh.createWallTimer(ros::WallDuration(1.0), &CoralNodelet::timerCb, this);
+    timer_ = mt.createWallTimer(ros::WallDuration(1.0), &CoralNodelet::timerCb, this);
     reconfigure_ =
         std::make_shared<dynamic_reconfigure::Server<ReconfigureConfig>>(reconfigure_mutex_, pnh);
     reconfigure_->updateConfig(  // start from the YAML values, not the .cfg defaults
         ros_adapters::toReconfigure<ReconfigureConfig>(config_));
     reconfigure_->setCallback(boost::bind(&CoralNodelet::reconfigureCb, this,
                                           boost::placeholders::_1, boost::placeholders::_2));
-    service_ = nh.advertiseService("check_alignment", &CoralNodelet::checkAlignment, this);
+    service_ = mt.advertiseService("check_alignment", &CoralNodelet::checkAlignment, this);
     {
       // Held across advertise: connectCb (run from another thread as soon as a subscriber
       // appears) must see the assigned publishers (pointcloud_to_laserscan pattern).
@@ -105,6 +121,7 @@ class CoralNodelet : public nodelet::Nodelet {
   void reconfigureCb(ReconfigureConfig& rc, uint32_t) {
     guarded("dynamic_reconfigure callback", [&] {
       std::lock_guard<std::mutex> lock(config_mutex_);
+      warnAtLimits(rc, ros_adapters::toReconfigure<ReconfigureConfig>(config_));
       NodeConfig c = config_;
       ros_adapters::applyReconfigure(rc, &c);
       if (const std::string err = c.validate(); !err.empty()) {
@@ -116,29 +133,76 @@ class CoralNodelet : public nodelet::Nodelet {
     });
   }
 
+  // dynamic_reconfigure clamps a request outside the .cfg range to the range before this
+  // callback sees it, so the requested value is unknown here; a change that lands exactly
+  // on a limit is the trace of such a clamp and is said aloud.
+  void warnAtLimits(const ReconfigureConfig& rc, const ReconfigureConfig& current) {
+    const ReconfigureConfig lo = ReconfigureConfig::__getMin__();
+    const ReconfigureConfig hi = ReconfigureConfig::__getMax__();
+    for (const auto& p : ReconfigureConfig::__getParamDescriptions__()) {
+      if (p->type != "double" && p->type != "int") continue;
+      auto value = [&](const ReconfigureConfig& c) {
+        boost::any v;
+        p->getValue(c, v);
+        return p->type == "double" ? boost::any_cast<double>(v) : boost::any_cast<int>(v);
+      };
+      const double v = value(rc);
+      if (v == value(current) || (v != value(lo) && v != value(hi))) continue;
+      NODELET_WARN(
+          "dynamic_reconfigure: %s = %g is the %s limit of cfg/Coral.cfg; a request beyond it "
+          "is clamped to it without notice, so a larger change you asked for was not applied",
+          p->name.c_str(), v, v == value(hi) ? "upper" : "lower");
+    }
+  }
+
   // The only thread that touches introspector_: the stream state needs no lock.
   void work() {
-    while (std::optional<Job> job = mailbox_.take()) {
-      guarded("worker", [&] {
-        NodeConfig cfg;
-        {
-          std::lock_guard<std::mutex> lock(config_mutex_);
-          if (config_changed_) introspector_.setConfig(config_.online, nullptr);  // valid
-          config_changed_ = false;
-          cfg = config_;
-        }
-        if (reset_requested_.exchange(false)) introspector_.reset();
-        const online::ProcessOptions opt = outputs_.options(cfg, job->scan.is_radar);
-        const online::Report r = introspector_.process(std::move(job->scan), opt);
-        stats_.processed(r, job->header.stamp, mailbox_.dropped());
-        if (!r.has_pose || r.action == online::PairAction::kBackwardsReset ||
-            r.action == online::PairAction::kDuplicateReset)
-          NODELET_WARN_THROTTLE(5.0, "%s", r.reason.c_str());
-        else if (r.action == online::PairAction::kGapReset)
-          NODELET_INFO_THROTTLE(10.0, "%s", r.reason.c_str());
-        outputs_.publish(r, job->header, cfg.fixed_frame, opt);
-      });
+    while (std::optional<ScanEvent> job = mailbox_.take()) {
+      guarded("worker", [&] { handle(*job); });
+      stats_.idle();
     }
+  }
+
+  void handle(ScanEvent& job) {
+    NodeConfig cfg;
+    {
+      std::lock_guard<std::mutex> lock(config_mutex_);
+      if (config_changed_) introspector_.setConfig(config_.online, nullptr);  // valid
+      config_changed_ = false;
+      cfg = config_;
+    }
+    if (reset_requested_.exchange(false)) introspector_.reset();
+    stats_.started(job.header);
+    const ros::WallTime start = ros::WallTime::now();
+    ros_adapters::WorkDone done;
+    std::optional<online::Report> r;  // lives until stats_.finished (done.counters)
+    if (job.kind == ScanEvent::Kind::kRefused || job.kind == ScanEvent::Kind::kDropped) {
+      done.status = job.kind == ScanEvent::Kind::kRefused ? AlignmentQuality::REFUSED
+                                                          : AlignmentQuality::DROPPED;
+      done.reason = job.reason;
+      done.problem = job.kind == ScanEvent::Kind::kRefused;  // dropped: counted apart
+      done.latency = outputs_.publishNoVerdict(done.status, job.reason, job.header, job.receipt,
+                                               cfg.fixed_frame);
+    } else {
+      const online::ProcessOptions opt = outputs_.options(cfg, job.scan.is_radar);
+      r = introspector_.process(std::move(job.scan), opt);
+      if (r->judged && cfg.testing_pair_delay > 0.0)
+        ros::WallDuration(cfg.testing_pair_delay).sleep();
+      const bool restart = r->action == online::PairAction::kBackwardsReset ||
+                           r->action == online::PairAction::kDuplicateReset;
+      if (!r->has_pose || restart)
+        NODELET_WARN_THROTTLE(5.0, "%s", r->reason.c_str());
+      else if (r->action == online::PairAction::kGapReset)
+        NODELET_INFO_THROTTLE(10.0, "%s", r->reason.c_str());
+      done.counters = &r->counters;
+      done.status = ros_adapters::reportStatus(*r, job.kind == ScanEvent::Kind::kNoPose);
+      done.reason = r->reason;
+      done.problem = !r->has_pose || restart;
+      done.latency =
+          outputs_.publish(*r, done.status, job.header, job.receipt, cfg.fixed_frame, opt);
+    }
+    done.seconds = (ros::WallTime::now() - start).toSec();
+    stats_.finished(done);
   }
 
   // A refused request is answered with `error` set; a failed call means an internal error.
@@ -178,7 +242,7 @@ class CoralNodelet : public nodelet::Nodelet {
   NodeConfig config_;
   bool config_changed_ = false;
   std::atomic<bool> reset_requested_{false};
-  online::Mailbox<Job> mailbox_;
+  online::Mailbox<ScanEvent> mailbox_{100, &CoralNodelet::dropNotice};
   online::Introspector introspector_;  // worker thread only
   std::thread worker_;
   ros_adapters::Stats stats_;  // thread-safe: everything diagnostics reads

@@ -2,14 +2,24 @@
 
 #include <sensor_msgs/PointCloud2.h>
 
+#include <algorithm>
+
 #include "coral_introspection/ros/conversions.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {
 
+uint8_t reportStatus(const online::Report& r, bool pose_failed) {
+  if (r.judged)
+    return r.pair.coral.valid ? AlignmentQuality::VERDICT : AlignmentQuality::INVALID_PAIR;
+  if (r.has_pose) return AlignmentQuality::NOT_PAIRED;
+  return pose_failed ? AlignmentQuality::NO_POSE : AlignmentQuality::REFUSED;
+}
+
 void Outputs::advertise(ros::NodeHandle& nh, bool doppler,
                         const ros::SubscriberStatusCallback& cb) {
-  alignment_ = nh.advertise<AlignmentQuality>("alignment", 10, cb, cb);
+  // One message per input scan: a queue of a few seconds of scans.
+  alignment_ = nh.advertise<AlignmentQuality>("alignment", 50, cb, cb);
   quality_ = nh.advertise<sensor_msgs::PointCloud2>("quality_cloud", 2, cb, cb);
   features_ = nh.advertise<sensor_msgs::PointCloud2>("features", 2, cb, cb);
   if (doppler) doppler_ = nh.advertise<VelocityConsistency>("velocity_consistency", 10, cb, cb);
@@ -28,20 +38,47 @@ online::ProcessOptions Outputs::options(const NodeConfig& cfg, bool is_radar) co
   return o;
 }
 
-void Outputs::publish(const online::Report& r, const std_msgs::Header& h,
-                      const std::string& fixed_frame, const online::ProcessOptions& o) const {
+double Outputs::publish(const online::Report& r, uint8_t status, const std_msgs::Header& h,
+                        const ros::Time& receipt, const std::string& fixed_frame,
+                        const online::ProcessOptions& o) const {
   if (r.doppler && doppler_) doppler_.publish(toMessage(*r.doppler, h));
   if (o.keep_features && r.has_pose)
     features_.publish(pointsToCloud(r.features.points, h, &r.features.intensity));
-  if (!r.judged) return;
   std_msgs::Header out;
   out.stamp = h.stamp;
   out.frame_id = fixed_frame;
   // The report's ids are the scans' header stamps in ns (ros_adapters::toSensorScan).
-  alignment_.publish(
-      toMessage(r.pair.coral, r.pair.verdict, out, ros::Time().fromNSec(r.id_ref), h.stamp));
-  if (o.per_point)  // the pair is in the reference sensor frame
-    quality_.publish(buildQualityCloud(r.pair.ref, r.pair.cur, r.pair.coral, out, r.T_fixed_ref));
+  AlignmentQuality m;
+  if (r.judged) {
+    m = toMessage(r.pair.coral, r.pair.verdict, out, ros::Time().fromNSec(r.id_ref), h.stamp);
+    if (o.per_point)  // the pair is in the reference sensor frame
+      quality_.publish(buildQualityCloud(r.pair.ref, r.pair.cur, r.pair.coral, out, r.T_fixed_ref));
+  } else {
+    m.header = out;
+    m.stamp_b = h.stamp;
+  }
+  m.status = status;
+  m.reason = r.reason;
+  return publishAlignment(std::move(m), receipt);
+}
+
+double Outputs::publishNoVerdict(uint8_t status, const std::string& reason,
+                                 const std_msgs::Header& h, const ros::Time& receipt,
+                                 const std::string& fixed_frame) const {
+  AlignmentQuality m;
+  m.header.stamp = h.stamp;
+  m.header.frame_id = fixed_frame;
+  m.stamp_b = h.stamp;
+  m.status = status;
+  m.reason = reason;
+  return publishAlignment(std::move(m), receipt);
+}
+
+double Outputs::publishAlignment(AlignmentQuality m, const ros::Time& receipt) const {
+  // Latency in ROS time; negative only if ROS time jumped back meanwhile (bag loop).
+  m.latency = receipt.isZero() ? 0.0 : std::max(0.0, (ros::Time::now() - receipt).toSec());
+  alignment_.publish(m);
+  return m.latency;
 }
 
 }  // namespace ros_adapters

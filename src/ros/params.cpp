@@ -102,6 +102,7 @@ class Reader {
           out->push_back("unknown parameter ~" + g + "/" + it->first + " (ignored)");
     }
   }
+  const std::set<std::string>& used() const { return used_; }
   const std::string& error() const { return error_; }
   bool fail(const std::string& message) {
     error_ = message;
@@ -128,7 +129,8 @@ bool readAll(Reader& r, NodeConfig* c) {
   const bool ok =
       r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
-      r.get("tf_timeout", &c->tf_timeout) &&
+      r.get("tf_timeout", &c->tf_timeout) && r.get("time_budget", &c->time_budget) &&
+      r.get("testing/pair_delay", &c->testing_pair_delay) &&
       r.get("pairing/min_distance", &o.pairing.min_distance) &&
       r.get("pairing/max_time_gap", &o.pairing.max_time_gap) &&
       r.get("coral/dimension", &o.coral.dimension) && r.get("coral/radius", &o.coral.radius) &&
@@ -206,6 +208,10 @@ std::string NodeConfig::validate() const {
     add("queue_size must be in [1, 1000] (got " + std::to_string(queue_size) + ")");
   if (!(tf_timeout > 0.0 && tf_timeout <= 60.0))
     add("tf_timeout must be in (0, 60] s (got " + std::to_string(tf_timeout) + ")");
+  if (!(time_budget >= 0.0 && time_budget <= 3600.0))
+    add("time_budget must be in [0, 3600] s, 0 = off (got " + std::to_string(time_budget) + ")");
+  if (!(testing_pair_delay >= 0.0 && testing_pair_delay <= 60.0))
+    add("testing/pair_delay must be in [0, 60] s (got " + std::to_string(testing_pair_delay) + ")");
   add(online.validate());
   if (input_type == InputType::kPolarImage) {
     if (polar_format == PolarFormat::kPlain)
@@ -222,6 +228,14 @@ std::string NodeConfig::validate() const {
   return e.str();
 }
 
+std::vector<std::string> nodeParameterNames() {
+  const XmlRpcValue empty;
+  Reader r(empty);
+  NodeConfig c;
+  readAll(r, &c);
+  return {r.used().begin(), r.used().end()};
+}
+
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,
                     std::vector<std::string>* warnings) {
   std::string dummy;
@@ -234,7 +248,7 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
     }
     if (warnings)
       r.unknownKeys({"pairing", "coral", "classifier", "radar", "rip", "motion_compensation",
-                     "publish", "doppler"},
+                     "publish", "doppler", "testing"},
                     warnings);
   } catch (const XmlRpc::XmlRpcException& e) {
     *error = std::string("malformed parameter tree: ") + e.getMessage();

@@ -8,8 +8,21 @@
 namespace coral_introspection {
 namespace ros_adapters {
 
+namespace {
+std::string describe(const std_msgs::Header& h) {
+  return "'" + h.frame_id + "' at t = " + std::to_string(h.stamp.toSec());
+}
+}  // namespace
+
 ScanSource::ScanSource(ros::NodeHandle& nh, const NodeConfig& cfg, Stats* stats, Sink sink)
-    : nh_(nh), cfg_(cfg), stats_(stats), sink_(std::move(sink)), tf_listener_(tf_buffer_, nh) {
+    : nh_(nh),
+      cfg_(cfg),
+      stats_(stats),
+      sink_(std::move(sink)),
+      tf_feed_(nh, &tf_buffer_, [this](const std::string& why) {
+        stats_->tfCleared();
+        ROS_INFO_THROTTLE(10.0, "%s", why.c_str());
+      }) {
   if (cfg_.input_type == InputType::kPointCloud)
     setUp(cloud_sub_, cloud_filter_);
   else
@@ -28,84 +41,155 @@ std::string ScanSource::topic() const {
 }
 
 void ScanSource::subscribe(bool on) {
+  // The subscriber queue only has to absorb scheduling jitter: the callbacks convert and
+  // hand on (no CorAl), and overload is handled (and counted) by the worker's mailbox.
   const auto queue = static_cast<uint32_t>(cfg_.queue_size);
   if (on && cloud_filter_) cloud_sub_.subscribe(nh_, "scan", queue);
   if (on && image_filter_) image_sub_.subscribe(nh_, "polar_image", queue);
   if (!on) {
     cloud_sub_.unsubscribe();
     image_sub_.unsubscribe();
+    stats_->inputStopped();
   }
 }
 
+// subscriber -> onArrival (count, refuse stamp 0, time jumps) -> MessageFilter (waits for
+// TF, queued on nh_'s callback queue) -> onScan / onFailure.
 template <class M>
 void ScanSource::setUp(message_filters::Subscriber<M>& sub,
                        std::shared_ptr<tf2_ros::MessageFilter<M>>& filter) {
-  using Ptr = boost::shared_ptr<const M>;
-  filter = std::make_shared<tf2_ros::MessageFilter<M>>(sub, tf_buffer_, cfg_.fixed_frame,
+  filter = std::make_shared<tf2_ros::MessageFilter<M>>(tf_buffer_, cfg_.fixed_frame,
                                                        static_cast<uint32_t>(cfg_.queue_size), nh_);
-  filter->registerCallback(boost::function<void(const Ptr&)>([this](const Ptr& m) { onScan(m); }));
-  auto on_error = [this](const std::string& e) { problem(&InputCounters::errors, e); };
-  filter->registerFailureCallback(boost::function<void(const Ptr&, tf2_ros::FilterFailureReason)>(
-      [this, on_error](const Ptr& m, tf2_ros::FilterFailureReason r) {
-        guarded(
-            "TF failure callback",
-            [&] {
-              if (!stats_->resolvePending(m->header)) return;  // timed out (counted) already
-              if (r == tf2_ros::filter_failure_reasons::EmptyFrameID)
-                return problem(&InputCounters::bad_inputs,
-                               "scan at t = " + std::to_string(m->header.stamp.toSec()) +
-                                   " has an empty frame_id");
-              noPose(m->header, r == tf2_ros::filter_failure_reasons::OutTheBack
-                                    ? "older than the TF buffer (extrapolation into the past)"
-                                    : "dropped from the TF queue while waiting");
-            },
-            on_error);
-      }));
-  // The filter queues its callbacks (callback queue of nh_), so the arrival is always
-  // recorded before the scan or failure callback resolves it.
-  sub.registerCallback(boost::function<void(const Ptr&)>([this, on_error](const Ptr& m) {
-    guarded(
-        "arrival callback", [&] { stats_->arrived(m->header); }, on_error);
-  }));
+  filter->registerCallback(
+      boost::function<void(const Event<M>&)>([this](const Event<M>& e) { onScan(e); }));
+  filter->registerFailureCallback(
+      boost::function<void(const boost::shared_ptr<const M>&, tf2_ros::FilterFailureReason)>(
+          [this](const boost::shared_ptr<const M>& m, tf2_ros::FilterFailureReason r) {
+            onFailure(Event<M>(m, ros::Time()), r);
+          }));
+  tf2_ros::MessageFilter<M>* f = filter.get();
+  sub.registerCallback(
+      boost::function<void(const Event<M>&)>([this, f](const Event<M>& e) { onArrival(e, *f); }));
 }
 
 template <class M>
-void ScanSource::onScan(const boost::shared_ptr<const M>& msg) {
+void ScanSource::onArrival(const Event<M>& event, tf2_ros::MessageFilter<M>& filter) {
+  guarded(
+      "arrival callback",
+      [&] {
+        const std_msgs::Header& h = event.getMessage()->header;
+        stats_->arrived(h, event.getPublisherName());
+        // TF at time 0 means "latest": an unstamped scan would be judged with whatever pose
+        // is newest and would spoil the next pair too.
+        if (h.stamp.isZero())
+          return refuse(h, event.getReceiptTime(), &InputCounters::unstamped,
+                        "scan " + describe(h) + " refused: header.stamp is 0 (unset)");
+        if (scan_jumps_.offer(h.frame_id, h.stamp.toSec()))
+          tf_feed_.clearBefore(h.stamp.toSec(), "scan " + describe(h) +
+                                                    " jumped back in time (looping bag?): TF "
+                                                    "buffer cleared");
+        stats_->waitForTf(h, event.getReceiptTime());
+        // A scan of before a time jump whose transforms were cleared (the next loop's TF
+        // overtook it): posed from the snapshot at once, it would wait in vain otherwise.
+        geometry_msgs::TransformStamped before;
+        if (tf_feed_.lookupBeforeJump(cfg_.fixed_frame, h.frame_id, h.stamp, &before))
+          return onScan(event);
+        filter.add(event);
+      },
+      [this](const std::string& e) { countError(e); });
+}
+
+template <class M>
+void ScanSource::onFailure(const Event<M>& event, tf2_ros::FilterFailureReason r) {
+  guarded(
+      "TF failure callback",
+      [&] {
+        const std_msgs::Header& h = event.getMessage()->header;
+        const std::optional<ros::Time> receipt = stats_->resolvePending(h);
+        if (!receipt) return;  // timed out (counted) already
+        if (r == tf2_ros::filter_failure_reasons::EmptyFrameID)
+          return refuse(
+              h, *receipt, &InputCounters::bad_inputs,
+              "scan at t = " + std::to_string(h.stamp.toSec()) + " refused: empty frame_id");
+        noPose(h, *receipt,
+               r == tf2_ros::filter_failure_reasons::OutTheBack
+                   ? "older than the TF buffer (extrapolation into the past)"
+                   : "dropped from the TF queue (queue_size scans waited for TF)");
+      },
+      [this](const std::string& e) { countError(e); });
+}
+
+template <class M>
+void ScanSource::onScan(const Event<M>& event) {
   guarded(
       "scan callback",
       [&] {
-        stats_->resolvePending(msg->header);
+        const M& msg = *event.getMessage();
+        const std::optional<ros::Time> receipt = stats_->resolvePending(msg.header);
+        if (!receipt) {  // reported as a TF failure at tf_timeout: not judged now
+          stats_->late();
+          ROS_WARN_THROTTLE(5.0,
+                            "TF for scan %s arrived after tf_timeout = %.3g s: not judged (it "
+                            "was reported as a TF failure; raise tf_timeout if this repeats)",
+                            describe(msg.header).c_str(), cfg_.tf_timeout);
+          return;
+        }
         SensorScan s;
         std::string error;
-        const bool ok = toSensorScan(*msg, cfg_, &s, &error);
+        const bool ok = toSensorScan(msg, cfg_, &s, &error);
         if (s.dropped_non_finite > 0) stats_->nonFinite(s.dropped_non_finite);
         if (!ok)
-          return problem(&InputCounters::bad_inputs,
-                         "bad input ('" + msg->header.frame_id + "' at t = " +
-                             std::to_string(msg->header.stamp.toSec()) + "): " + error);
+          return refuse(msg.header, *receipt, &InputCounters::bad_inputs,
+                        "bad input (" + describe(msg.header) + "): " + error);
         try {
-          s.scan.T_fixed_sensor = tf2::transformToEigen(tf_buffer_.lookupTransform(
-              cfg_.fixed_frame, msg->header.frame_id, msg->header.stamp));
+          // Before-the-jump first: after a clear the live buffer no longer has its pose.
+          geometry_msgs::TransformStamped t;
+          if (!tf_feed_.lookupBeforeJump(cfg_.fixed_frame, msg.header.frame_id, msg.header.stamp,
+                                         &t))
+            t = tf_buffer_.lookupTransform(cfg_.fixed_frame, msg.header.frame_id, msg.header.stamp);
+          s.scan.T_fixed_sensor = tf2::transformToEigen(t);
         } catch (const tf2::TransformException& e) {
-          return noPose(msg->header, e.what());
+          return noPose(msg.header, *receipt, e.what());
         }
-        sink_(std::move(s.scan), msg->header);
+        ScanEvent out;
+        out.scan = std::move(s.scan);
+        out.header = msg.header;
+        out.receipt = *receipt;
+        sink_(std::move(out));
       },
-      [this](const std::string& e) { problem(&InputCounters::errors, e); });
+      [this](const std::string& e) { countError(e); });
 }
 
 void ScanSource::expirePending() {
-  for (const std_msgs::Header& h : stats_->expirePending(cfg_.tf_timeout))
-    noPose(h, "not within tf_timeout = " + std::to_string(cfg_.tf_timeout) + " s");
+  for (const auto& [header, receipt] : stats_->expirePending(cfg_.tf_timeout))
+    noPose(header, receipt, "not within tf_timeout = " + std::to_string(cfg_.tf_timeout) + " s");
 }
 
-void ScanSource::noPose(const std_msgs::Header& header, const std::string& error) {
-  sink_(noPoseInput(header, cfg_.fixed_frame, error), header);
+void ScanSource::noPose(const std_msgs::Header& header, const ros::Time& receipt,
+                        const std::string& error) {
+  ScanEvent e;
+  e.kind = ScanEvent::Kind::kNoPose;
+  e.scan = noPoseInput(header, cfg_.fixed_frame, error);
+  e.header = header;
+  e.receipt = receipt;
+  sink_(std::move(e));
 }
 
-void ScanSource::problem(uint64_t InputCounters::*counter, const std::string& error) {
+void ScanSource::refuse(const std_msgs::Header& header, const ros::Time& receipt,
+                        uint64_t InputCounters::*counter, const std::string& error) {
   stats_->count(counter, error);
   ROS_WARN_THROTTLE(5.0, "%s", error.c_str());
+  ScanEvent e;
+  e.kind = ScanEvent::Kind::kRefused;
+  e.header = header;
+  e.receipt = receipt;
+  e.reason = error;
+  sink_(std::move(e));
+}
+
+void ScanSource::countError(const std::string& error) {
+  stats_->count(&InputCounters::errors, error);
+  ROS_ERROR_THROTTLE(5.0, "%s", error.c_str());
 }
 
 }  // namespace ros_adapters

@@ -115,6 +115,30 @@ TEST(CloudToPoints, DropsAndCountsNonFinite) {
   EXPECT_DOUBLE_EQ(pts[1].x(), 3.0);
 }
 
+// Integer coordinates are refused, not read as metres: int16 millimetres would otherwise
+// become a cloud 1000x too large without a word.
+TEST(CloudToPoints, IntegerFieldsAreRefusedWithTheType) {
+  auto c = makeCloud(
+      {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"z", PointField::FLOAT32}},
+      [](uint32_t i, std::size_t) { return 1.0 * i; });
+  core::Points pts;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err)) << err;
+  c.fields[1].datatype = PointField::INT16;
+  EXPECT_FALSE(ros_adapters::cloudToPoints(c, &pts, &err));
+  EXPECT_NE(err.find("field 'y' is int16"), std::string::npos) << err;
+  c.fields[1].datatype = PointField::FLOAT32;
+  auto v = makeCloud({{"x", PointField::FLOAT32},
+                      {"y", PointField::FLOAT32},
+                      {"z", PointField::FLOAT32},
+                      {"velocity", PointField::UINT8}},
+                     [](uint32_t, std::size_t) { return 1.0; });
+  std::vector<double> vel;
+  EXPECT_FALSE(ros_adapters::cloudToPoints(v, &pts, &err, nullptr, "velocity", &vel));
+  EXPECT_NE(err.find("field 'velocity' is uint8"), std::string::npos) << err;
+  EXPECT_TRUE(ros_adapters::cloudToPoints(v, &pts, &err)) << "an unused integer field is fine";
+}
+
 TEST(CloudToPoints, MissingXyzIsAClearError) {
   const auto c = makeCloud(
       {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"intensity", PointField::FLOAT32}},

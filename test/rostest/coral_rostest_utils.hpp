@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <random>
 
@@ -86,12 +87,30 @@ inline void sendTf(tf2_ros::TransformBroadcaster& br, const Eigen::Isometry3d& T
   br.sendTransform(ts);
 }
 
-// Thread-safe store of every message received on a topic.
+template <class M>
+inline bool keepAll(const M&) {
+  return true;
+}
+// What a Collector keeps by default: every message, except for AlignmentQuality only the
+// pairs CorAl judged (status VERDICT or INVALID_PAIR); the messages saying why a scan has no
+// verdict are collected with keepAll.
+template <class M>
+inline bool keepByDefault(const M&) {
+  return true;
+}
+template <>
+inline bool keepByDefault(const AlignmentQuality& m) {
+  return m.status == AlignmentQuality::VERDICT || m.status == AlignmentQuality::INVALID_PAIR;
+}
+
+// Thread-safe store of the messages received on a topic (those `keep` accepts).
 template <class M>
 class Collector {
  public:
-  Collector(ros::NodeHandle& nh, const std::string& topic) {
-    sub_ = nh.subscribe<M>(topic, 100, [this](const boost::shared_ptr<const M>& m) {
+  Collector(ros::NodeHandle& nh, const std::string& topic,
+            std::function<bool(const M&)> keep = keepByDefault<M>) {
+    sub_ = nh.subscribe<M>(topic, 100, [this, keep](const boost::shared_ptr<const M>& m) {
+      if (!keep(*m)) return;
       std::lock_guard<std::mutex> l(mutex_);
       msgs_.push_back(*m);
     });

@@ -29,14 +29,14 @@ struct CloudReadStats {
 // True when the cloud has a field of that name.
 bool hasField(const sensor_msgs::PointCloud2& cloud, const std::string& name);
 
-// Reads x, y, z of every point. Each of x, y, z may be any numeric PointField type
-// (float32 / float64 in practice) at any offset, so XYZ, XYZI, Ouster/Velodyne layouts and
-// 4D radar clouds all read directly. Points with a non-finite coordinate are dropped and
-// counted. When extra_field is non-empty its value is read for every kept point into
-// *extra (e.g. the Doppler radial velocity); a point whose extra value is non-finite is
-// dropped too. Returns false with *error on a malformed message (missing x/y/z or extra
-// field, data shorter than width * height * point_step, a field outside point_step, big
-// endian data); an empty cloud is valid (zero points).
+// Reads x, y, z of every point. Each of x, y, z may be float32 or float64 at any offset,
+// so XYZ, XYZI, Ouster/Velodyne layouts and 4D radar clouds all read directly; integer
+// fields are refused (a scaled value of unknown unit, e.g. millimetres, is not metres). Points with
+// a non-finite coordinate are dropped and counted. When extra_field is non-empty its value is read
+// for every kept point into *extra (e.g. the Doppler radial velocity); a point whose extra value is
+// non-finite is dropped too. Returns false with *error on a malformed message (missing or integer
+// x/y/z or extra field, data shorter than width * height * point_step, a field outside point_step,
+// big endian data); an empty cloud is valid (zero points).
 bool cloudToPoints(const sensor_msgs::PointCloud2& cloud, core::Points* points, std::string* error,
                    CloudReadStats* stats = nullptr, const std::string& extra_field = std::string(),
                    std::vector<double>* extra = nullptr);
@@ -56,7 +56,8 @@ sensor_msgs::PointCloud2 buildQualityCloud(
     const std_msgs::Header& header,
     const Eigen::Isometry3d& T_header_scans = Eigen::Isometry3d::Identity());
 
-// Verdict message of a pair. verdict is used only when result.valid (else aligned = false,
+// Verdict message of a pair (status VERDICT, or INVALID_PAIR when !result.valid; reason and
+// latency left to the caller). verdict is used only when result.valid (else aligned = false,
 // probability = 0).
 AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict& verdict,
                            const std_msgs::Header& header, const ros::Time& stamp_a,

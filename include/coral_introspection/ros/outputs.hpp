@@ -5,11 +5,16 @@
 
 #include <ros/ros.h>
 
+#include "coral_introspection/AlignmentQuality.h"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros/params.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {
+
+// AlignmentQuality::status of a report: a verdict, an invalid pair, not paired; without a
+// pose NO_POSE when the input had none (TF failure), else REFUSED (empty scan).
+uint8_t reportStatus(const online::Report& report, bool pose_failed);
 
 class Outputs {
  public:
@@ -19,12 +24,20 @@ class Outputs {
   bool subscribed() const;  // anyone listening to any output
   // What the Introspector must keep for the outputs someone listens to.
   online::ProcessOptions options(const NodeConfig& cfg, bool is_radar) const;
-  // Verdict (stamped with the scan, in fixed_frame), quality cloud, features (sensor
-  // frame) and Doppler check of one processed scan.
-  void publish(const online::Report& report, const std_msgs::Header& scan_header,
-               const std::string& fixed_frame, const online::ProcessOptions& options) const;
+  // The scan's AlignmentQuality (stamped with the scan, in fixed_frame): the verdict or why
+  // there is none (status, reason); with a verdict the quality cloud, with features the
+  // feature cloud (sensor frame), with Doppler its check. Returns the latency [s] written
+  // into the message (now - receipt).
+  double publish(const online::Report& report, uint8_t status, const std_msgs::Header& scan_header,
+                 const ros::Time& receipt, const std::string& fixed_frame,
+                 const online::ProcessOptions& options) const;
+  // The AlignmentQuality of a scan the Introspector never saw (refused, dropped).
+  double publishNoVerdict(uint8_t status, const std::string& reason,
+                          const std_msgs::Header& scan_header, const ros::Time& receipt,
+                          const std::string& fixed_frame) const;
 
  private:
+  double publishAlignment(AlignmentQuality m, const ros::Time& receipt) const;
   ros::Publisher alignment_, quality_, features_, doppler_;
 };
 

@@ -23,6 +23,13 @@ struct NodeConfig {
   std::string fixed_frame = "odom";
   int queue_size = 10;      // scans waiting for TF in the message filter
   double tf_timeout = 1.0;  // [s] wall time a scan may wait for TF before it counts as failed
+  // [s] worker time per scan (de-skew, CorAl, classifier) above which diagnostics warn, also
+  // while the scan is still being computed; 0 = off. About the scan period: beyond it, scans
+  // are dropped.
+  double time_budget = 1.0;
+  // [s] testing only: the worker sleeps this long after each judged pair (a deliberately
+  // slow pair for the responsiveness tests). 0 in any real use.
+  double testing_pair_delay = 0.0;
   // pairing/, coral/, classifier/, motion_compensation/, doppler/: the Introspector's config.
   // Polar input requires coral/dimension 2 (RIP features are planar: 3D covariances of
   // z = 0 points are singular), checked by validate() rather than switched silently.
@@ -43,6 +50,10 @@ struct NodeConfig {
 // inside the known groups (coral/, rip/, ...) are reported in *warnings (likely typos).
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,
                     std::vector<std::string>* warnings = nullptr);
+
+// Every parameter loadNodeConfig reads ("group/name", sorted): the README's table is
+// checked against it.
+std::vector<std::string> nodeParameterNames();
 
 // The runtime-safe parameters (cfg/Coral.cfg) <-> NodeConfig; R is the generated
 // dynamic_reconfigure struct (coral_introspection::CoralConfig).
