@@ -21,6 +21,8 @@ PKGS=(
   librosbag-dev python3-rosbag
   librostest-dev python3-rostest python3-rosunit
   python3-numpy
+  # tools: CARMEN .clf.bz2 laser logs (eval), preset YAML files read by coral_train
+  libbz2-dev libyaml-cpp-dev
 )
 
 missing=()
