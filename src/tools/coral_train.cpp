@@ -38,7 +38,11 @@ leave-one-out accuracy) and samples.csv.
                           --odom_topic, --fixed_frame)
   --samples CSV           repeatable; fit from sample files (e.g. the shards) instead
   --shard I/N             compute only pairs with index % N == I and write
-                          samples_shardIofN.csv (for a job array / GNU parallel)
+                          samples_shardIofN.csv (for a job array / GNU parallel), e.g.
+                            parallel coral_train --preset P --dataset D --shard {}/8 \
+                              --output shards ::: 0 1 2 3 4 5 6 7
+                            coral_train --preset P --samples shards/samples_shard0of8.csv \
+                              ... --samples shards/samples_shard7of8.csv --output report
   --threads N             worker threads; 0 = every core                    [0]
   --relative_margin M     relative-check margin instead of the preset's
   --max_scans N  --folds K  --output DIR  --no_csv   as below
