@@ -121,7 +121,7 @@ bool loadPairDataset(const DatasetSpec& spec, const DatasetOptions& o, const Pro
   } else if (spec.kind == "cloudlist") {
     if (!loadCloudList(spec.path, progress, out, error)) return false;
     out->summary = std::to_string(out->scans.size()) + " clouds, " +
-                   std::to_string(out->pairs.size()) + " consecutive pairs (listed poses)";
+                   std::to_string(out->pairs.size()) + " consecutive pair(s) (listed poses)";
     return true;
   } else {
     return fail(error, "data set kind '" + spec.kind + "' needs the ROS tooling (coral_train)");

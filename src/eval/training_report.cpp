@@ -38,6 +38,7 @@ bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string*
       << std::defaultfloat << std::setprecision(10) << ',' << x.offset << ',' << x.dx << ',' << x.dy
       << ',' << x.dyaw << ',' << x.group << ',' << x.label;
     if (with_dataset) s << ',' << x.dataset;
+    s << std::setprecision(17);  // features round-trip exactly: a refit from the file is equal
     for (const auto& f : x.features)
       for (double v : f) s << ',' << v;  // NaN = method gave no value
     s << '\n';

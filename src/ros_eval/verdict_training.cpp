@@ -114,8 +114,11 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
       log << "coral_train: " << err << "\n";
       return 1;
     }
+    std::ostringstream c;
+    c << "; " << cost.evaluations << " CorAl evaluations, " << std::setprecision(3)
+      << 1e3 * cost.seconds / std::max<std::size_t>(1, cost.evaluations) << " ms each on average";
     data_lines.push_back("- " + spec.name + " (`" + spec.kind + ":" + spec.path +
-                         "`): " + d.summary);
+                         "`): " + d.summary + c.str());
   }
   for (const std::string& path : o.sample_files) {
     core::SampleSet part;
