@@ -161,6 +161,7 @@ std::string verdictMarkdown(const SampleSet& set, const VerdictEvaluation& e,
   directionTable(s, set, e, "lodo");
   s << "\n## In data set (contiguous k-fold cross-validation over pairs)\n\n";
   scenarioTable(s, e, "cv", "Data set", false);
+  s << "\n(A data set with fewer than two pairs has no row here.)\n";
   if (e.datasets.size() > 2) {
     s << "\n## Cross data set (train -> test)\n\n";
     scenarioTable(s, e, "cross", "Train -> test", true);
