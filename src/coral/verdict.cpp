@@ -69,18 +69,26 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
   }
 }
 
+void decideAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
+                     const CoralConfig& coral, const VerdictConfig& cfg, AlignmentVerdict* v) {
+  v->relative = RelativeCheckResult();
+  if (!v->coral.valid) {
+    v->valid = v->aligned = false;
+    v->probability = 0.0;
+    v->reason = "CorAl has no valid result (overlap " + std::to_string(v->coral.overlap) + ")";
+    return;
+  }
+  v->classifier = classify(cfg.classifier, v->coral.h_joint, v->coral.h_sep);  // Eq. 9-10
+  if (cfg.method != VerdictMethod::kClassifier)
+    v->relative = relativeCheck(a, b, T_a_b, v->coral, coral, cfg.tolerance, cfg.relative);
+  combineVerdict(cfg.method, v->classifier, v->relative, cfg.relative, v);
+}
+
 AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                 const CoralConfig& coral, const VerdictConfig& cfg) {
   AlignmentVerdict v;
   v.coral = computeCoral(a, transformScan(b, T_a_b), coral);
-  if (!v.coral.valid) {
-    v.reason = "CorAl has no valid result (overlap " + std::to_string(v.coral.overlap) + ")";
-    return v;
-  }
-  v.classifier = classify(cfg.classifier, v.coral.h_joint, v.coral.h_sep);
-  if (cfg.method != VerdictMethod::kClassifier)
-    v.relative = relativeCheck(a, b, T_a_b, v.coral, coral, cfg.tolerance, cfg.relative);
-  combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
+  decideAlignment(a, b, T_a_b, coral, cfg, &v);
   return v;
 }
 

@@ -136,7 +136,7 @@ class CoralNodelet : public nodelet::Nodelet {
           NODELET_WARN_THROTTLE(5.0, "%s", r.reason.c_str());
         else if (r.action == online::PairAction::kGapReset)
           NODELET_INFO_THROTTLE(10.0, "%s", r.reason.c_str());
-        outputs_.publish(r, job->header, cfg.fixed_frame, opt);
+        outputs_.publish(r, job->header, cfg.fixed_frame, opt, cfg.online.verdict);
       });
     }
   }

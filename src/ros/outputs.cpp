@@ -29,7 +29,8 @@ online::ProcessOptions Outputs::options(const NodeConfig& cfg, bool is_radar) co
 }
 
 void Outputs::publish(const online::Report& r, const std_msgs::Header& h,
-                      const std::string& fixed_frame, const online::ProcessOptions& o) const {
+                      const std::string& fixed_frame, const online::ProcessOptions& o,
+                      const core::VerdictConfig& verdict) const {
   if (r.doppler && doppler_) doppler_.publish(toMessage(*r.doppler, h));
   if (o.keep_features && r.has_pose)
     features_.publish(pointsToCloud(r.features.points, h, &r.features.intensity));
@@ -39,9 +40,10 @@ void Outputs::publish(const online::Report& r, const std_msgs::Header& h,
   out.frame_id = fixed_frame;
   // The report's ids are the scans' header stamps in ns (ros_adapters::toSensorScan).
   alignment_.publish(
-      toMessage(r.pair.coral, r.pair.verdict, out, ros::Time().fromNSec(r.id_ref), h.stamp));
+      toMessage(r.pair.verdict, verdict, out, ros::Time().fromNSec(r.id_ref), h.stamp));
   if (o.per_point)  // the pair is in the reference sensor frame
-    quality_.publish(buildQualityCloud(r.pair.ref, r.pair.cur, r.pair.coral, out, r.T_fixed_ref));
+    quality_.publish(
+        buildQualityCloud(r.pair.ref, r.pair.cur, r.pair.verdict.coral, out, r.T_fixed_ref));
 }
 
 }  // namespace ros_adapters

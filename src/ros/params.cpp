@@ -118,6 +118,15 @@ class Reader {
   std::string error_;
 };
 
+// Indexed by core::VerdictMethod.
+std::vector<std::string> methodNames() {
+  std::vector<std::string> n;
+  for (auto m : {core::VerdictMethod::kClassifier, core::VerdictMethod::kRelative,
+                 core::VerdictMethod::kBoth})
+    n.push_back(core::verdictMethodName(m));
+  return n;
+}
+
 bool readAll(Reader& r, NodeConfig* c) {
   online::IntrospectorConfig& o = c->online;
   int input = c->input_type == InputType::kPolarImage ? 1 : 0;
@@ -125,6 +134,7 @@ bool readAll(Reader& r, NodeConfig* c) {
   int fmt = c->polar_format == PolarFormat::kPlain ? 1 : 0;
   int dir = c->polar.direction == core::AzimuthDirection::kClockwise ? 1 : 0;
   int seed = static_cast<int>(o.doppler.check.seed);
+  int method = static_cast<int>(o.verdict.method);  // core::VerdictMethod order
   const bool ok =
       r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
@@ -140,10 +150,15 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("coral/min_neighbours_other", &o.coral.min_neighbours_other) &&
       r.getChoice("coral/aggregation", {"mean", "median"}, &agg) &&
       r.get("coral/min_overlap", &o.coral.min_overlap) &&
-      r.get("classifier/beta0", &o.classifier.beta0) &&
-      r.get("classifier/beta1", &o.classifier.beta1) &&
-      r.get("classifier/beta2", &o.classifier.beta2) &&
-      r.get("classifier/threshold", &o.classifier.threshold) &&
+      r.get("classifier/beta0", &o.verdict.classifier.beta0) &&
+      r.get("classifier/beta1", &o.verdict.classifier.beta1) &&
+      r.get("classifier/beta2", &o.verdict.classifier.beta2) &&
+      r.get("classifier/threshold", &o.verdict.classifier.threshold) &&
+      r.getChoice("classifier/method", methodNames(), &method) &&
+      r.get("classifier/relative_margin", &o.verdict.relative.margin) &&
+      r.get("classifier/flat_ratio", &o.verdict.relative.flat_ratio) &&
+      r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
+      r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&
       r.get("radar/range_resolution", &c->polar.range_resolution) &&
       r.get("radar/first_data_column", &c->polar.first_data_column) &&
@@ -173,6 +188,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("doppler/sigma_azimuth", &o.doppler.noise.sigma_azimuth) &&
       r.get("doppler/sigma_elevation", &o.doppler.noise.sigma_elevation);
   c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
+  o.verdict.method = static_cast<core::VerdictMethod>(method);
   o.coral.aggregation = agg == 1 ? core::Aggregation::kMedian : core::Aggregation::kMean;
   c->polar_format = fmt == 1 ? PolarFormat::kPlain : PolarFormat::kOxford;
   c->polar.direction =
@@ -225,8 +241,8 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
       return false;
     }
     if (warnings)
-      r.unknownKeys({"pairing", "coral", "classifier", "radar", "rip", "motion_compensation",
-                     "publish", "doppler"},
+      r.unknownKeys({"pairing", "coral", "classifier", "tolerance", "radar", "rip",
+                     "motion_compensation", "publish", "doppler"},
                     warnings);
   } catch (const XmlRpc::XmlRpcException& e) {
     *error = std::string("malformed parameter tree: ") + e.getMessage();

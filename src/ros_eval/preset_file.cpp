@@ -44,26 +44,6 @@ XmlRpcValue convert(const YAML::Node& n) {
   }
 }
 
-const XmlRpcValue* find(const XmlRpcValue& root, const std::string& group, const std::string& key) {
-  if (root.getType() != XmlRpcValue::TypeStruct || !root.hasMember(group)) return nullptr;
-  const XmlRpcValue& g = root[group];
-  if (g.getType() != XmlRpcValue::TypeStruct || !g.hasMember(key)) return nullptr;
-  return &g[key];
-}
-
-bool getNumber(const XmlRpcValue& root, const char* group, const char* key, double* out,
-               std::string* error) {
-  const XmlRpcValue* v = find(root, group, key);
-  if (v == nullptr) return true;
-  if (v->getType() == XmlRpcValue::TypeDouble)
-    *out = static_cast<double>(*v);
-  else if (v->getType() == XmlRpcValue::TypeInt)
-    *out = static_cast<int>(*v);
-  else
-    return core::fail(error, std::string("parameter ~") + group + "/" + key + " must be a number");
-  return true;
-}
-
 }  // namespace
 
 bool yamlToXmlRpc(const std::string& text, XmlRpcValue* out, std::string* error) {
@@ -73,18 +53,6 @@ bool yamlToXmlRpc(const std::string& text, XmlRpcValue* out, std::string* error)
     return core::fail(error, std::string("YAML: ") + e.what());
   }
   return true;
-}
-
-bool loadVerdictConfig(const XmlRpcValue& params, core::VerdictConfig* v, std::string* error) {
-  if (const XmlRpcValue* m = find(params, "classifier", "method")) {
-    if (m->getType() != XmlRpcValue::TypeString ||
-        !core::parseVerdictMethod(static_cast<std::string>(*m), &v->method))
-      return core::fail(error, "parameter ~classifier/method must be classifier, relative or both");
-  }
-  return getNumber(params, "tolerance", "translation", &v->tolerance.translation, error) &&
-         getNumber(params, "tolerance", "rotation_deg", &v->tolerance.rotation_deg, error) &&
-         getNumber(params, "classifier", "relative_margin", &v->relative.margin, error) &&
-         getNumber(params, "classifier", "flat_ratio", &v->relative.flat_ratio, error);
 }
 
 bool loadPresetFile(const std::string& path, NodeConfig* node, core::VerdictConfig* verdict,
@@ -97,24 +65,8 @@ bool loadPresetFile(const std::string& path, NodeConfig* node, core::VerdictConf
   std::vector<std::string> w;
   if (!yamlToXmlRpc(text.str(), &params, error) || !loadNodeConfig(params, node, error, &w))
     return core::fail(error, path + ": " + *error);
-  // Default tolerance of the preset's sensor class, then the file's values.
-  verdict->tolerance = core::ToleranceConfig::forSensor(node->input_type == InputType::kPolarImage,
-                                                        node->coral.dimension);
-  verdict->classifier = node->classifier;
-  if (!loadVerdictConfig(params, verdict, error)) return core::fail(error, path + ": " + *error);
-  if (const std::string e = verdict->validate(); !e.empty())
-    return core::fail(error, path + ": " + e);
-  if (warnings)  // the verdict keys are known here even though loadNodeConfig skips them
-    for (const std::string& s : w)
-      if (s.find("~classifier/method") == std::string::npos &&
-          s.find("~classifier/relative_margin") == std::string::npos &&
-          s.find("~classifier/flat_ratio") == std::string::npos)
-        warnings->push_back(s);
-  if (warnings && params.getType() == XmlRpcValue::TypeStruct && params.hasMember("tolerance") &&
-      params["tolerance"].getType() == XmlRpcValue::TypeStruct)
-    for (const auto& kv : params["tolerance"])
-      if (kv.first != "translation" && kv.first != "rotation_deg")
-        warnings->push_back("unknown parameter ~tolerance/" + kv.first + " (ignored)");
+  *verdict = node->online.verdict;  // read by loadNodeConfig, exactly as the nodelet does
+  if (warnings) warnings->insert(warnings->end(), w.begin(), w.end());
   return true;
 }
 

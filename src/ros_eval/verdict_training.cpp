@@ -34,7 +34,7 @@ bool loadData(const core::DatasetSpec& spec, const NodeConfig& node,
     core::DatasetOptions opt;
     opt.oxford.rip = node.rip;
     opt.oxford.with_cfear = false;
-    opt.oxford.motion_compensation = node.motion_compensation;
+    opt.oxford.motion_compensation = node.online.deskew.enabled;
     opt.oxford.max_scans = opt.keyframes.max_scans = o.max_scans;
     return core::loadPairDataset(spec, opt, bar(spec.name + " scans", log), d, error);
   }
@@ -43,7 +43,7 @@ bool loadData(const core::DatasetSpec& spec, const NodeConfig& node,
   b.odom_topic = o.bag_odom_topic;
   b.fixed_frame = o.bag_fixed_frame;
   b.node = node;
-  b.motion_compensation = node.motion_compensation;
+  b.motion_compensation = node.online.deskew.enabled;
   b.with_cfear = false;
   b.max_scans = o.max_scans;
   core::Isometries poses;
@@ -89,7 +89,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
     return 2;
   }
   core::VerdictSampleConfig scfg;
-  scfg.coral = node.coral;
+  scfg.coral = node.online.coral;
   scfg.tolerance = verdict.tolerance;
   scfg.threads = o.threads;
   scfg.shard_index = o.shard_index;
@@ -151,9 +151,9 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   verdict.classifier = ev.classifier.toClassifierConfig();
   std::ostringstream tol, choice;
   tol << "Tolerance: " << verdict.tolerance.translation << " m along x, y"
-      << (node.coral.dimension == 3 ? ", z" : "") << "; " << verdict.tolerance.rotation_deg
-      << " deg about yaw" << (node.coral.dimension == 3 ? ", roll, pitch" : "")
-      << " (offsets applied in the later scan's sensor frame). " << coralSettings(node.coral)
+      << (node.online.coral.dimension == 3 ? ", z" : "") << "; " << verdict.tolerance.rotation_deg
+      << " deg about yaw" << (node.online.coral.dimension == 3 ? ", roll, pitch" : "")
+      << " (offsets applied in the later scan's sensor frame). " << coralSettings(node.online.coral)
       << " (from the preset).";
   choice << "Default method: **" << core::verdictMethodName(ev.best)
          << "** (rule: highest mean leave-one-out balanced accuracy; within 0.005 the cheaper "
@@ -172,7 +172,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
                                      "Data:",
                                      ""};
   header.insert(header.end(), data_lines.begin(), data_lines.end());
-  const int axes = node.coral.dimension == 2 ? 3 : 6;
+  const int axes = node.online.coral.dimension == 2 ? 3 : 6;
   std::ostringstream cost;
   cost << "Cost per verdict: classifier 1 CorAl evaluation; relative and both 1 + 2 x " << axes
        << " = " << 1 + 2 * axes << " (the per-evaluation times above are from this machine, "

@@ -31,9 +31,9 @@ TEST(PresetFile, YamlScalarsBecomeTypedXmlRpcValues) {
   EXPECT_NE(err.find("YAML"), std::string::npos);
 }
 
-TEST(PresetFile, VerdictKeysDefaultsPerSensorAndErrors) {
+TEST(PresetFile, VerdictKeysDefaultsAndErrors) {
   const std::string path = coral_test::tempPath("preset", ".yaml");
-  std::ofstream(path) << "input_type: polar_image\ncoral:\n  radius: 2.0\n"
+  std::ofstream(path) << "input_type: polar_image\ncoral:\n  dimension: 2\n  radius: 2.0\n"
                          "classifier:\n  method: both\n  relative_margin: 0.05\n  beta0: 7\n";
   ros_adapters::NodeConfig node;
   core::VerdictConfig v;
@@ -41,12 +41,12 @@ TEST(PresetFile, VerdictKeysDefaultsPerSensorAndErrors) {
   std::vector<std::string> warnings;
   ASSERT_TRUE(ros_adapters::loadPresetFile(path, &node, &v, &err, &warnings)) << err;
   EXPECT_TRUE(warnings.empty()) << warnings.front();
-  EXPECT_DOUBLE_EQ(node.coral.radius, 2.0);
-  EXPECT_EQ(node.coral.dimension, 2);
+  EXPECT_DOUBLE_EQ(node.online.coral.radius, 2.0);
+  EXPECT_EQ(node.online.coral.dimension, 2);
   EXPECT_EQ(v.method, core::VerdictMethod::kBoth);
   EXPECT_DOUBLE_EQ(v.relative.margin, 0.05);
   EXPECT_DOUBLE_EQ(v.classifier.beta0, 7.0);
-  EXPECT_DOUBLE_EQ(v.tolerance.translation, 0.5);  // radar default: no tolerance section
+  EXPECT_DOUBLE_EQ(v.tolerance.translation, core::ToleranceConfig().translation);  // default
   std::ofstream(path) << "tolerance:\n  translation: 0.2\n  rotation_deg: 3\n  typo: 1\n";
   ASSERT_TRUE(ros_adapters::loadPresetFile(path, &node, &v, &err, &warnings)) << err;
   EXPECT_DOUBLE_EQ(v.tolerance.translation, 0.2);

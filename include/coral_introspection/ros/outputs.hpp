@@ -20,9 +20,11 @@ class Outputs {
   // What the Introspector must keep for the outputs someone listens to.
   online::ProcessOptions options(const NodeConfig& cfg, bool is_radar) const;
   // Verdict (stamped with the scan, in fixed_frame), quality cloud, features (sensor
-  // frame) and Doppler check of one processed scan.
+  // frame) and Doppler check of one processed scan; `verdict`: the settings it was judged
+  // with (tolerance and method are part of the message).
   void publish(const online::Report& report, const std_msgs::Header& scan_header,
-               const std::string& fixed_frame, const online::ProcessOptions& options) const;
+               const std::string& fixed_frame, const online::ProcessOptions& options,
+               const core::VerdictConfig& verdict) const;
 
  private:
   ros::Publisher alignment_, quality_, features_, doppler_;

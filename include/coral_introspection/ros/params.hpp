@@ -49,7 +49,7 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
 template <class R>
 R toReconfigure(const NodeConfig& c) {
   R r;
-  r.classifier_threshold = c.online.classifier.threshold;
+  r.classifier_threshold = c.online.verdict.classifier.threshold;
   r.coral_radius = c.online.coral.radius;
   r.coral_min_overlap = c.online.coral.min_overlap;
   r.publish_quality_cloud = c.publish_quality_cloud;
@@ -58,7 +58,7 @@ R toReconfigure(const NodeConfig& c) {
 }
 template <class R>
 void applyReconfigure(const R& r, NodeConfig* c) {
-  c->online.classifier.threshold = r.classifier_threshold;
+  c->online.verdict.classifier.threshold = r.classifier_threshold;
   c->online.coral.radius = r.coral_radius;
   c->online.coral.min_overlap = r.coral_min_overlap;
   c->publish_quality_cloud = r.publish_quality_cloud;

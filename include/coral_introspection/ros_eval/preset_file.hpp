@@ -2,7 +2,8 @@
 // parameters: the YAML (yaml-cpp) becomes an XmlRpc tree that loadNodeConfig() checks, so
 // training uses the preset's CorAl / RIP settings and re-training after a preset change
 // needs no code change. The verdict settings (tolerance/*, classifier/method,
-// classifier/relative_margin, classifier/flat_ratio) are read here as well.
+// classifier/relative_margin, classifier/flat_ratio) are the nodelet's too
+// (NodeConfig::online.verdict): *verdict is a copy of them.
 #pragma once
 
 #include <xmlrpcpp/XmlRpcValue.h>
@@ -19,10 +20,6 @@ namespace ros_adapters {
 // YAML text -> XmlRpc tree (maps -> structs, sequences -> arrays; plain scalars become
 // int, double, bool or string in that order of preference, quoted scalars stay strings).
 bool yamlToXmlRpc(const std::string& yaml_text, XmlRpc::XmlRpcValue* out, std::string* error);
-
-// Verdict settings from a parameter tree; missing keys keep the defaults in *verdict.
-bool loadVerdictConfig(const XmlRpc::XmlRpcValue& params, core::VerdictConfig* verdict,
-                       std::string* error);
 
 // Reads and validates a preset file. Warnings: unknown keys (likely typos).
 bool loadPresetFile(const std::string& path, NodeConfig* node, core::VerdictConfig* verdict,
