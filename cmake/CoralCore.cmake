@@ -5,6 +5,7 @@
 find_package(Eigen3 REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 find_package(PCL REQUIRED COMPONENTS common io)
+find_package(Threads REQUIRED)  # CoralConfig::threads (std::thread)
 
 set(CORAL_WARNINGS -Wall -Wextra)
 
@@ -20,7 +21,7 @@ function(coral_add_library name dir)
   target_compile_options(${name} PRIVATE ${CORAL_WARNINGS})
 endfunction()
 
-coral_add_library(coral_introspection_coral coral)
+coral_add_library(coral_introspection_coral coral DEPS Threads::Threads)
 # Third-party headers as SYSTEM so the warning flags report only our own code.
 target_include_directories(coral_introspection_coral SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
 coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral ${OpenCV_LIBS})

@@ -18,6 +18,7 @@ PKGS=(
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev
   librosbag-dev python3-rosbag
+  libyaml-cpp-dev  # coral_check reads presets
   librostest-dev python3-rostest python3-rosunit python3-rosparam
   python3-numpy
   # tools: CARMEN .clf.bz2 laser logs (eval), preset YAML files read by coral_train

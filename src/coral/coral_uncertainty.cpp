@@ -57,7 +57,7 @@ Shape neighbourhoodShape(const Scan& s, std::size_t i, const UncertainCoralConfi
 // Per point of `own`: entropies of its ellipsoidal neighbourhood in its own cloud and in
 // the joint cloud (Eq. 1, 3, 4); valid only with enough neighbours in both clouds.
 void scoreScan(const Scan& own, const NeighbourGrid& own_grid, const NeighbourGrid& other_grid,
-               const UncertainCoralConfig& cfg, CoralResult& res, std::vector<double>& mme) {
+               const UncertainCoralConfig& cfg, uint8_t scan, std::vector<PointEntropy>& out) {
   const CoralConfig& b = cfg.base;
   for (std::size_t i = 0; i < own.points.size(); ++i) {
     const Vec3& p = own.points[i];
@@ -75,9 +75,11 @@ void scoreScan(const Scan& own, const NeighbourGrid& own_grid, const NeighbourGr
       if (inside(x)) m_other.add(x - p);
     });
     PointEntropy pe;
+    pe.position = p.cast<float>();
+    pe.scan = scan;
     pe.radius = static_cast<float>(sh.reach);
-    scorePoint(m_own, m_other, b, &pe, &mme, &res.num_overlap);
-    res.per_point.push_back(pe);
+    scorePoint(m_own, m_other, b, &pe);
+    out.push_back(pe);
   }
 }
 
@@ -95,12 +97,14 @@ CoralResult computeCoralUncertain(const Scan& a_in, const Scan& b_in,
   const double cell = std::max(cfg.base.r_max, cfg.base.maxRadius());
   const NeighbourGrid grid_a(a.points, cell, cfg.base.dimension);
   const NeighbourGrid grid_b(b.points, cell, cfg.base.dimension);
-  res.per_point.reserve(a.points.size() + b.points.size());
-  std::vector<double> mme;
-  scoreScan(a, grid_a, grid_b, cfg, res, mme);
-  scoreScan(b, grid_b, grid_a, cfg, res, mme);
+  res.num_used_a = a.points.size();
+  res.num_used_b = b.points.size();
+  std::vector<PointEntropy> per_point;
+  per_point.reserve(a.points.size() + b.points.size());
+  scoreScan(a, grid_a, grid_b, cfg, 0, per_point);
+  scoreScan(b, grid_b, grid_a, cfg, 1, per_point);
 
-  finalizeCoral(cfg.base, std::move(res.per_point), std::move(mme), &res);
+  finalizeCoral(cfg.base, std::move(per_point), &res);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return res;
 }

@@ -38,8 +38,10 @@ bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h) 
       log_det = std::log(ev(0)) + std::log(ev(1)) + std::log(ev(2));
   }
   if (!(eig_max > 0.0)) {
-    if (epsilon <= 0.0) return false;
-    log_det = std::log(epsilon);  // all points identical: det = 0, floored
+    // All points coincide (a repeated point gives exactly zero spread, the query being one
+    // of them): no usable covariance. Never floored: the floor would be the same in the
+    // separate and joint clouds and pull Q to 0 whatever the alignment.
+    return false;
   } else if (!(eig_min > kRelativeEigenFloor * eig_max)) {
     if (epsilon <= 0.0) return false;  // collinear / coplanar: no finite entropy
     log_det = std::log(epsilon);       // det ~ 0, so det + epsilon ~ epsilon

@@ -7,10 +7,12 @@ namespace core {
 
 Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src) {
   Scan out;
-  out.points.reserve(scan.points.size());
-  for (const Vec3& p : scan.points) out.points.push_back(T_dst_src * p);
-  out.origin = T_dst_src * scan.origin;
   const Mat3 R = T_dst_src.linear();
+  const Vec3 t = T_dst_src.translation();
+  out.points.resize(scan.points.size());
+  for (std::size_t i = 0; i < scan.points.size(); ++i)
+    out.points[i].noalias() = R * scan.points[i] + t;
+  out.origin = T_dst_src * scan.origin;
   out.covariances.reserve(scan.covariances.size());
   for (const Mat3& S : scan.covariances) out.covariances.push_back(R * S * R.transpose());
   return out;

@@ -15,6 +15,8 @@ std::string noVerdictReason(const core::CoralResult& r, const core::CoralConfig&
   else if (r.overlap < cfg.min_overlap)
     s << "overlap " << r.overlap << " below coral/min_overlap " << cfg.min_overlap
       << " (wrong transform or too far apart?)";
+  else if (!r.reason.empty())  // degenerate input, refused size, ... (computeCoral's words)
+    s << r.reason;
   else
     s << "no point with finite entropies (" << r.num_overlap
       << " overlapping; check coral/radius, coral/epsilon, coral/dimension)";

@@ -198,11 +198,12 @@ sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan
                            PointField::FLOAT32, "q", 1, PointField::FLOAT32, "h_sep", 1,
                            PointField::FLOAT32, "h_joint", 1, PointField::FLOAT32, "scan", 1,
                            PointField::UINT8);
-  // per_point holds a's finite points then b's (computeCoral's order).
-  const std::size_t na = a.points.size(), n = na + b.points.size();
+  // Every scored point carries its position (common frame) and scan; with a voxel filter
+  // or a query subset these are the voxel centroids / sampled points that were evaluated.
+  (void)a;
+  (void)b;
   std::size_t count = 0;
-  if (result.per_point.size() == n)
-    for (const auto& pe : result.per_point) count += pe.valid ? 1 : 0;
+  for (const auto& pe : result.per_point) count += pe.valid ? 1 : 0;
   mod.resize(count);
   c.height = 1;
   c.width = static_cast<uint32_t>(count);
@@ -210,17 +211,16 @@ sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan
   if (count == 0) return c;
   sensor_msgs::PointCloud2Iterator<float> it(c, "x");
   sensor_msgs::PointCloud2Iterator<uint8_t> is(c, "scan");
-  for (std::size_t k = 0; k < n; ++k) {
-    const core::PointEntropy& pe = result.per_point[k];
+  for (const core::PointEntropy& pe : result.per_point) {
     if (!pe.valid) continue;
-    const core::Vec3 p = T_header_scans * (k < na ? a.points[k] : b.points[k - na]);
+    const core::Vec3 p = T_header_scans * pe.position.cast<double>();
     it[0] = static_cast<float>(p.x());
     it[1] = static_cast<float>(p.y());
     it[2] = static_cast<float>(p.z());
     it[3] = pe.q();
     it[4] = pe.h_sep;
     it[5] = pe.h_joint;
-    *is = k < na ? 0 : 1;
+    *is = pe.scan;
     ++it;
     ++is;
   }

@@ -150,6 +150,14 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("coral/min_neighbours_other", &o.coral.min_neighbours_other) &&
       r.getChoice("coral/aggregation", {"mean", "median"}, &agg) &&
       r.get("coral/min_overlap", &o.coral.min_overlap) &&
+      r.get("coral/voxel_leaf", &o.coral.voxel_leaf) &&
+      r.get("coral/max_queries", &o.coral.max_queries) &&
+      r.get("coral/query_seed", &o.coral.query_seed) && r.get("coral/threads", &o.coral.threads) &&
+      r.get("coral/max_abs_coordinate", &o.coral.max_abs_coordinate) &&
+      r.get("coral/max_points", &o.coral.max_points) &&
+      r.get("coral/refuse_over_max_points", &o.coral.refuse_over_max_points) &&
+      r.get("coral/merge_distance", &o.coral.merge_distance) &&
+      r.get("coral/max_degenerate_fraction", &o.coral.max_degenerate_fraction) &&
       r.get("classifier/beta0", &o.verdict.classifier.beta0) &&
       r.get("classifier/beta1", &o.verdict.classifier.beta1) &&
       r.get("classifier/beta2", &o.verdict.classifier.beta2) &&

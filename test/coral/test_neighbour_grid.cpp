@@ -83,3 +83,32 @@ TEST(NeighbourGrid, TwoCloudCellsSplitIntoAThenB) {
   EXPECT_EQ(seen_a, 500u);
   EXPECT_EQ(seen_b, 400u);
 }
+
+TEST(NeighbourGrid, BallPruningAndHugeCoordinatesStayExact) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-4.0, 4.0);
+  Points pts;
+  for (int i = 0; i < 2000; ++i) pts.emplace_back(u(rng), u(rng), u(rng));
+  // Beyond the clamped cell range: share the outer cell layer, still found exactly.
+  for (double big : {1e30, -1e30, 9.3e18, 1e300}) {
+    pts.emplace_back(big, 0.0, 0.0);
+    pts.emplace_back(big, 0.0, 0.0);
+    pts.emplace_back(0.0, big, 1.0);
+  }
+  const NeighbourGrid grid(pts, 0.3, 3);  // radii up to 4 cells
+  for (double r : {0.05, 0.3, 0.45, 1.2}) {
+    for (int k = 0; k < 60; ++k) {
+      const Vec3 q(u(rng), u(rng), u(rng));
+      std::vector<uint32_t> got;
+      grid.forEachWithin(q, r, [&](const Vec3&, uint32_t i) { got.push_back(i); });
+      std::sort(got.begin(), got.end());
+      ASSERT_EQ(got, brute(pts, q, r, 3)) << "r " << r;
+    }
+  }
+  for (const Vec3& q : {Vec3(1e30, 0.0, 0.0), Vec3(0.0, 1e30, 1.0), Vec3(1e300, 0.0, 0.0)}) {
+    std::vector<uint32_t> got;
+    grid.forEachWithin(q, 0.5, [&](const Vec3&, uint32_t i) { got.push_back(i); });
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, brute(pts, q, 0.5, 3));
+  }
+}

@@ -152,6 +152,15 @@ std::string describe(const NodeConfig& c) {
     << "\ncoral.aggregation = " << static_cast<int>(c.online.coral.aggregation)
     << "\ncoral.min_overlap = " << c.online.coral.min_overlap
     << "\ncoral.per_point = " << c.online.coral.per_point
+    << "\ncoral.voxel_leaf = " << c.online.coral.voxel_leaf
+    << "\ncoral.max_queries = " << c.online.coral.max_queries
+    << "\ncoral.query_seed = " << c.online.coral.query_seed
+    << "\ncoral.threads = " << c.online.coral.threads
+    << "\ncoral.max_abs_coordinate = " << c.online.coral.max_abs_coordinate
+    << "\ncoral.max_points = " << c.online.coral.max_points
+    << "\ncoral.refuse_over_max_points = " << c.online.coral.refuse_over_max_points
+    << "\ncoral.merge_distance = " << c.online.coral.merge_distance
+    << "\ncoral.max_degenerate_fraction = " << c.online.coral.max_degenerate_fraction
     << "\nclassifier.beta0 = " << c.online.verdict.classifier.beta0
     << "\nclassifier.beta1 = " << c.online.verdict.classifier.beta1
     << "\nclassifier.beta2 = " << c.online.verdict.classifier.beta2

@@ -173,6 +173,10 @@ TEST(QualityCloud, HoldsValidPointsWithEntropiesAndScanIndex) {
   b.points = {core::Vec3(2, 0, 0)};
   core::CoralResult r;
   r.per_point.resize(3);
+  for (int k = 0; k < 3; ++k) {  // computeCoral fills position and scan of every entry
+    r.per_point[k].position = (k < 2 ? a.points[k] : b.points[0]).cast<float>();
+    r.per_point[k].scan = k < 2 ? 0 : 1;
+  }
   r.per_point[0].valid = true;
   r.per_point[0].h_sep = -2.f;
   r.per_point[0].h_joint = -1.5f;

@@ -170,3 +170,35 @@ TEST(Params, TyposInGroupsAreWarned) {
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("coral/raduis"), std::string::npos);
 }
+
+TEST(Params, DenseLidarKeysReachTheCoralConfig) {
+  XmlRpcValue t;
+  t["coral"]["voxel_leaf"] = 0.2;
+  t["coral"]["max_queries"] = 2000;
+  t["coral"]["query_seed"] = 7;
+  t["coral"]["threads"] = 2;
+  ros_adapters::NodeConfig c;
+  std::string err;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, &warnings)) << err;
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_DOUBLE_EQ(c.online.coral.voxel_leaf, 0.2);
+  EXPECT_EQ(c.online.coral.max_queries, 2000);
+  EXPECT_EQ(c.online.coral.query_seed, 7);
+  EXPECT_EQ(c.online.coral.threads, 2);
+  t["coral"]["max_abs_coordinate"] = 1e5;
+  t["coral"]["max_points"] = 300000;
+  t["coral"]["refuse_over_max_points"] = true;
+  t["coral"]["merge_distance"] = 0.002;
+  t["coral"]["max_degenerate_fraction"] = 0.3;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, &warnings)) << err;
+  EXPECT_TRUE(warnings.empty());
+  EXPECT_DOUBLE_EQ(c.online.coral.max_abs_coordinate, 1e5);
+  EXPECT_EQ(c.online.coral.max_points, 300000);
+  EXPECT_TRUE(c.online.coral.refuse_over_max_points);
+  EXPECT_DOUBLE_EQ(c.online.coral.merge_distance, 0.002);
+  EXPECT_DOUBLE_EQ(c.online.coral.max_degenerate_fraction, 0.3);
+  t["coral"]["threads"] = 0;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("threads"), std::string::npos) << err;
+}

@@ -30,6 +30,28 @@ struct CoralConfig {
   double min_overlap = 0.05;  // below this fraction of overlapping points: no verdict
   bool per_point = true;      // fill CoralResult::per_point (q_k, Eq. 6)
 
+  // Dense clouds (lidar at sensor rate). The defaults score every input point exactly.
+  double voxel_leaf = 0.0;  // [m] input voxel filter, one centroid per voxel; 0 = off
+  // Score a stratified subset of at most this many points per scan (0 = every point). Their
+  // neighbourhoods still come from the full clouds: H_joint, H_sep and Q are estimates of
+  // the full means, with their standard errors in CoralResult.
+  int max_queries = 0;
+  int query_seed = 1;  // seed of the subset: same seed and input, same subset
+  int threads = 1;     // worker threads (std::thread); results do not depend on it
+
+  // Degenerate and unbounded input: named and counted, never scored.
+  double max_abs_coordinate = 1e7;  // [m] points with a larger |coordinate| are dropped
+  // [points per scan] of usable input; a larger scan is thinned by a deterministic stride
+  // (or, with refuse_over_max_points, the pair is not judged): bounds the work per pair.
+  int max_points = 1000000;
+  bool refuse_over_max_points = false;
+  // [m] points of one scan in the same cube of this edge are merged into their centroid
+  // (duplicates, no-returns at the origin); 0 = off. Below any lidar's resolution.
+  double merge_distance = 1e-3;
+  // Above this fraction of overlapping points without a usable covariance (coincident, or
+  // collinear/coplanar with epsilon = 0) the result is not valid.
+  double max_degenerate_fraction = 0.5;
+
   // CorAl-Radar settings of Sec. V-A c: 2D, r = 1 m fixed, epsilon = 0, E_reject = 0.
   static CoralConfig radarPaper();
 
@@ -40,27 +62,48 @@ struct CoralConfig {
 };
 
 struct PointEntropy {
-  float h_sep = 0.f;    // h_i(p_k) in its own cloud [nats] (Eq. 1)
-  float h_joint = 0.f;  // h_j(p_k) in the joint cloud [nats]
-  float radius = 0.f;   // neighbourhood radius used [m]
-  bool valid = false;   // entered H_sep / H_joint (overlap, finite entropies, not rejected)
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();  // the scored point (common frame)
+  float h_sep = 0.f;        // h_i(p_k) in its own cloud [nats] (Eq. 1), when valid
+  float h_joint = 0.f;      // h_j(p_k) in the joint cloud [nats], when joint_ok
+  float radius = 0.f;       // neighbourhood radius used [m]
+  uint8_t scan = 0;         // 0: point of scan a, 1: of scan b
+  bool joint_ok = false;    // enough joint neighbours and a finite h_joint (enters the MME)
+  bool overlap = false;     // min_neighbours in its own and min_neighbours_other in the other
+  bool degenerate = false;  // overlaps, but its own or joint covariance is not usable
+  bool valid = false;       // entered H_sep / H_joint (overlap, finite entropies, not rejected)
   float q() const { return h_joint - h_sep; }  // Eq. 6
 };
 
 struct CoralResult {
-  bool valid = false;    // enough overlap and at least one valid point
+  bool valid = false;    // enough overlap, valid points, not mostly degenerate (else: reason)
   double h_joint = 0.0;  // Eq. 3 restricted to valid points [nats]
   double h_sep = 0.0;    // Eq. 4 restricted to valid points [nats]
   double quality = 0.0;  // Q = H_joint - H_sep (Eq. 5)
   double mme = 0.0;      // mean joint entropy over every point with enough joint
                          // neighbours, no overlap requirement (MME baseline, Sec. IV-1a)
-  double overlap = 0.0;  // fraction of finite points overlapping the other cloud
-  std::size_t num_points_a = 0, num_points_b = 0;  // finite input points
-  std::size_t num_overlap = 0;   // points with enough neighbours in own and other cloud
+  double overlap = 0.0;  // fraction of scored points overlapping the other cloud
+  std::size_t num_points_a = 0, num_points_b = 0;  // usable input points (finite, in range)
+  std::size_t num_used_a = 0, num_used_b = 0;      // points after the voxel filter
+  std::size_t num_queries = 0;                     // points scored (all used points, or the subset)
+  std::size_t num_overlap = 0;   // scored points with enough neighbours in own and other cloud
   std::size_t num_valid = 0;     // points aggregated (after E_reject)
   std::size_t num_rejected = 0;  // removed by E_reject
-  double seconds = 0.0;          // wall time of computeCoral
-  // Per finite point: scan a first, then scan b (order of the finite input points).
+  // Input hygiene, both scans together: dropped (NaN/Inf, beyond max_abs_coordinate),
+  // thinned (max_points), merged (coincident), and overlapping points whose covariance
+  // was not usable.
+  std::size_t num_non_finite = 0, num_out_of_range = 0, num_thinned = 0, num_merged = 0;
+  std::size_t num_degenerate = 0;
+  // Work of the neighbour search: candidate points distance-tested, over all queries (own
+  // and other cloud). Bounded work is asserted on this, not on time.
+  std::size_t num_distance_tests = 0;
+  std::string reason;  // why the result is not valid (empty when valid)
+  // Standard errors of the subset estimates [nats] (0 when every point is scored): the
+  // spread of the sampled per-point values over sqrt(n) with the finite-population
+  // correction (times sqrt(pi/2) for the median). quality_stderr uses q_k = h_j - h_i.
+  double h_joint_stderr = 0.0, h_sep_stderr = 0.0, quality_stderr = 0.0;
+  double seconds = 0.0;  // wall time of computeCoral
+  // One entry per scored point: scan a's first, then scan b's. When every input point is
+  // scored (no voxel filter, no subset) these are exactly the finite input points in order.
   std::vector<PointEntropy> per_point;
 };
 
@@ -77,32 +120,31 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg);
 //
 // Eq. 1 and 6 for one point from the moments of its neighbours in its own cloud and in the
 // other cloud (both centred on the point). Every point with enough joint neighbours feeds
-// the MME; it counts as overlapping only with min_neighbours in its own and
-// min_neighbours_other in the other cloud, and is valid when both entropies are finite.
+// the MME (joint_ok); it overlaps with min_neighbours in its own and min_neighbours_other
+// in the other cloud, and is valid when it overlaps and both entropies are finite.
 template <class M>
-void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe,
-                std::vector<double>* mme_terms, std::size_t* num_overlap) {
+void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe) {
   M joint = own;
   joint += other;
   double h_joint = 0.0, h_sep = 0.0;
-  const bool joint_ok =
-      joint.n >= cfg.min_neighbours &&
-      differentialEntropy(joint.covariance(), cfg.dimension, cfg.epsilon, &h_joint);
-  if (joint_ok) mme_terms->push_back(h_joint);
-  if (own.n < cfg.min_neighbours || other.n < cfg.min_neighbours_other) return;
-  ++*num_overlap;
-  if (joint_ok && differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep)) {
+  pe->joint_ok = joint.n >= cfg.min_neighbours &&
+                 differentialEntropy(joint.covariance(), cfg.dimension, cfg.epsilon, &h_joint);
+  if (pe->joint_ok) pe->h_joint = static_cast<float>(h_joint);
+  pe->overlap = own.n >= cfg.min_neighbours && other.n >= cfg.min_neighbours_other;
+  if (pe->overlap && pe->joint_ok &&
+      differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep)) {
     pe->h_sep = static_cast<float>(h_sep);
-    pe->h_joint = static_cast<float>(h_joint);
     pe->valid = true;
   }
+  pe->degenerate = pe->overlap && !pe->valid;
 }
 
-// E_reject (Sec. III-C (3)), H_sep / H_joint / Q (Eq. 3-5, mean or median), MME, overlap
-// and validity from the per-point entropies (scan a's points first). Expects
-// res->num_points_a/b and res->num_overlap set; fills the rest except `seconds`.
-void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point,
-                   std::vector<double> mme_terms, CoralResult* res);
+// E_reject (Sec. III-C (3)), H_sep / H_joint / Q (Eq. 3-5, mean or median), MME, overlap,
+// standard errors and validity from the per-point entropies of the scored points (scan a's
+// first), summed in their order (so results never depend on threads). Expects
+// res->num_used_a/b (the population the scored points were drawn from); fills the rest
+// except `seconds` and the input counts.
+void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, CoralResult* res);
 
 }  // namespace core
 }  // namespace coral_introspection

@@ -14,13 +14,16 @@ template <int Dim>
 struct MomentsN {
   using V = Eigen::Matrix<double, Dim, 1>;
   double n = 0.0;
-  V sum = V::Zero();  // sum of (x - p)
-  Eigen::Matrix<double, Dim, Dim> sum2 = Eigen::Matrix<double, Dim, Dim>::Zero();
+  V sum = V::Zero();                                                               // sum of (x - p)
+  Eigen::Matrix<double, Dim, Dim> sum2 = Eigen::Matrix<double, Dim, Dim>::Zero();  // upper
 
+  // Only the upper triangle of sum2 is accumulated (bit-identical to the full product: the
+  // lower entries are the same products); covariance() mirrors it.
   void add(const V& d) {
     n += 1.0;
     sum += d;
-    sum2.noalias() += d * d.transpose();
+    for (int i = 0; i < Dim; ++i)
+      for (int j = i; j < Dim; ++j) sum2(i, j) += d(i) * d(j);
   }
   MomentsN& operator+=(const MomentsN& o) {
     n += o.n;
@@ -34,7 +37,8 @@ struct MomentsN {
   Mat3 covariance() const {
     const V mean = sum / n;
     Mat3 c = Mat3::Zero();
-    c.template topLeftCorner<Dim, Dim>() = (sum2 - n * mean * mean.transpose()) / (n - 1.0);
+    const Eigen::Matrix<double, Dim, Dim> s2 = sum2.template selfadjointView<Eigen::Upper>();
+    c.template topLeftCorner<Dim, Dim>() = (s2 - n * mean * mean.transpose()) / (n - 1.0);
     return c;
   }
 };
@@ -45,8 +49,9 @@ using Moments = MomentsN<3>;
 // log det is taken from the eigenvalues of the symmetric matrix, never from log(det()).
 // epsilon > 0 is option (1) of Sec. III-C: the determinant is floored as det + epsilon, so
 // h >= 1/2 ln((2 pi e)^N epsilon) and lines / planes stay finite.
-// Returns false (h untouched) when Sigma is not finite, or is singular / ill-conditioned
-// (smallest eigenvalue <= 1e-12 * largest) and epsilon == 0.
+// Returns false (h untouched) when Sigma is not finite, when the points coincide (zero
+// covariance, whatever epsilon: no usable covariance), or when Sigma is
+// singular / ill-conditioned (smallest eigenvalue <= 1e-12 * largest) and epsilon == 0.
 bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h);
 
 // Entropy of the whole point set (all points are one neighbourhood). Used by tests and

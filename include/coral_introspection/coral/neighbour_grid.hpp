@@ -1,8 +1,9 @@
-// Uniform hash grid for fixed-radius neighbour queries. For CorAl's radius searches on a
-// few thousand points this is cheaper than a kd-tree: a query visits 3^N cells found by
-// one hash probe each, and points of a cell are contiguous in memory.
+// Uniform hash grid for fixed-radius neighbour queries. For CorAl's radius searches this is
+// cheaper than a kd-tree: a query visits only the cells that intersect its ball (one hash
+// probe each), and the points of a cell are contiguous in memory.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -14,46 +15,69 @@ namespace core {
 
 class NeighbourGrid {
  public:
-  // cell_size > 0 [m]; dim 2 ignores z. Non-finite points must be removed beforehand.
+  // cell_size > 0 [m]; dim 2 ignores z. Points must be finite. Coordinates beyond
+  // kMaxCell cells from the origin share the outermost cell layer: queries stay exact
+  // (every distance is checked), only slower there.
   NeighbourGrid(const Points& points, double cell_size, int dim)
       : NeighbourGrid(points, Points(), cell_size, dim) {}
   // One grid over two clouds: within every cell the points of `a` come first, then those of
   // `b`, so one cell lookup serves queries against both (CorAl's own and other clouds).
-  // Original indices: i for a[i], a.size() + i for b[i].
+  // Original indices: i for a[i], a.size() + i for b[i]. Cells are numbered in the order
+  // their first point appears in a then b (deterministic).
   NeighbourGrid(const Points& a, const Points& b, double cell_size, int dim);
 
-  // Calls f(point, original_index) for every point with |point - q| <= radius.
-  template <class F>
-  void forEachWithin(const Vec3& q, double radius, F&& f) const {
-    if (points_.empty()) return;
-    const double r2 = radius * radius;
-    const int reach = static_cast<int>(std::ceil(radius * inv_cell_));
-    const int64_t cx = cellCoord(q.x()), cy = cellCoord(q.y());
-    const int64_t cz = dim_ == 3 ? cellCoord(q.z()) : 0;
-    const int zr = dim_ == 3 ? reach : 0;
-    for (int64_t ix = cx - reach; ix <= cx + reach; ++ix)
-      for (int64_t iy = cy - reach; iy <= cy + reach; ++iy)
-        for (int64_t iz = cz - zr; iz <= cz + zr; ++iz) {
-          const Cell* c = find(key(ix, iy, iz));
-          if (c == nullptr) continue;
-          for (uint32_t i = c->begin; i < c->end; ++i) {
-            const Vec3& p = points_[i];
-            const double dx = p.x() - q.x(), dy = p.y() - q.y();
-            const double dz = dim_ == 3 ? p.z() - q.z() : 0.0;
-            if (dx * dx + dy * dy + dz * dz <= r2) f(p, index_[i]);
-          }
-        }
-  }
-
-  std::size_t size() const { return points_.size(); }
-
-  // Cell-batched access for queries of every point of a grid (CorAl): the neighbour cells
-  // are looked up once per cell instead of once per point.
   struct Range {
     const Vec3* begin;
     const Vec3* mid;  // [begin, mid): points of cloud a, [mid, end): points of cloud b
     const Vec3* end;
   };
+
+  // Calls f(range) for every non-empty cell that intersects the ball of `radius` around q
+  // (cells whose box lies farther than radius are skipped, so the work follows the radius,
+  // not the cell size).
+  template <class F>
+  void forEachCellNear(const Vec3& q, double radius, F&& f) const {
+    if (points_.empty()) return;
+    const double r2 = radius * radius;
+    const int64_t x0 = cellCoord(q.x() - radius), x1 = cellCoord(q.x() + radius);
+    const int64_t y0 = cellCoord(q.y() - radius), y1 = cellCoord(q.y() + radius);
+    const int64_t z0 = dim_ == 3 ? cellCoord(q.z() - radius) : 0;
+    const int64_t z1 = dim_ == 3 ? cellCoord(q.z() + radius) : 0;
+    for (int64_t ix = x0; ix <= x1; ++ix) {
+      const double gx = gap(q.x(), ix);
+      if (gx > r2) continue;
+      for (int64_t iy = y0; iy <= y1; ++iy) {
+        const double gxy = gx + gap(q.y(), iy);
+        if (gxy > r2) continue;
+        for (int64_t iz = z0; iz <= z1; ++iz) {
+          if (dim_ == 3 && gxy + gap(q.z(), iz) > r2) continue;
+          if (const Cell* c = find(ix, iy, iz)) f(range(*c));
+        }
+      }
+    }
+  }
+
+  // Calls f(point, original_index) for every point with |point - q| <= radius.
+  template <class F>
+  void forEachWithin(const Vec3& q, double radius, F&& f) const {
+    const double r2 = radius * radius;
+    forEachCellNear(q, radius, [&](const Range& rg) {
+      for (const Vec3* p = rg.begin; p != rg.end; ++p) {
+        const double dx = p->x() - q.x(), dy = p->y() - q.y();
+        const double dz = dim_ == 3 ? p->z() - q.z() : 0.0;
+        if (dx * dx + dy * dy + dz * dz <= r2) f(*p, index_[p - points_.data()]);
+      }
+    });
+  }
+
+  std::size_t size() const { return points_.size(); }
+  double cellSize() const { return cell_; }
+  // Points sorted by cell, their original indices, and the position of a point in them.
+  const Points& sortedPoints() const { return points_; }
+  const std::vector<uint32_t>& sortedIndices() const { return index_; }
+
+  // Cell-batched access for queries of every point of a grid (CorAl): the neighbour cells
+  // are looked up once per cell instead of once per point.
   std::size_t numCells() const { return cells_.size(); }
   // Points of cell c (contiguous) and their original indices.
   Range cellPoints(std::size_t c) const { return range(cells_[c]); }
@@ -61,34 +85,50 @@ class NeighbourGrid {
   // Non-empty cells within `reach` cells of cell c (including c itself).
   void neighbourRanges(std::size_t c, int reach, std::vector<Range>* out) const;
 
+  // Cell coordinates are clamped to +-kMaxCell: no float-to-integer overflow, no signed
+  // overflow in neighbour arithmetic, whatever the input.
+  static constexpr int64_t kMaxCell = int64_t{1} << 40;
+
  private:
   struct Cell {
-    uint64_t key;
+    int64_t x, y, z;  // integer cell coordinates (the cell's identity)
     uint32_t begin, mid, end;
-    int64_t x, y, z;  // integer cell coordinates
   };
   Range range(const Cell& c) const {
     return {points_.data() + c.begin, points_.data() + c.mid, points_.data() + c.end};
   }
-  int64_t cellCoord(double v) const { return static_cast<int64_t>(std::floor(v * inv_cell_)); }
-  static uint64_t key(int64_t x, int64_t y, int64_t z) {
-    // 21 bits per axis; cells that wrap onto one key merely share a bucket (distance is
-    // always checked), so correctness never depends on the packing.
-    constexpr uint64_t m = (1u << 21) - 1;
-    return (static_cast<uint64_t>(x) & m) | ((static_cast<uint64_t>(y) & m) << 21) |
-           ((static_cast<uint64_t>(z) & m) << 42);
+  int64_t cellCoord(double v) const {
+    // floor() of the clamped value without a libm call (NaN never reaches here).
+    const double s =
+        std::clamp(v * inv_cell_, -static_cast<double>(kMaxCell), static_cast<double>(kMaxCell));
+    const auto t = static_cast<int64_t>(s);
+    return t - (s < static_cast<double>(t) ? 1 : 0);
   }
-  static uint64_t hash(uint64_t k) { return (k * 0x9E3779B97F4A7C15ull) >> 20; }
-  const Cell* find(uint64_t k) const {
-    for (uint64_t s = hash(k) & mask_;; s = (s + 1) & mask_) {
+  // Squared distance along one axis from v to cell i's interval (0 inside). The clamped
+  // outer layer extends to infinity, so it is never skipped.
+  double gap(double v, int64_t i) const {
+    if (i <= -kMaxCell || i >= kMaxCell) return 0.0;
+    const double lo = static_cast<double>(i) * cell_;
+    const double d = std::max({0.0, lo - v, v - (lo + cell_)});
+    return d * d;
+  }
+  static uint64_t hash(int64_t x, int64_t y, int64_t z) {
+    uint64_t h = static_cast<uint64_t>(x) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<uint64_t>(y) * 0xC2B2AE3D27D4EB4Full;
+    h ^= static_cast<uint64_t>(z) * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+  }
+  const Cell* find(int64_t x, int64_t y, int64_t z) const {
+    for (uint64_t s = hash(x, y, z) & mask_;; s = (s + 1) & mask_) {
       const int32_t ci = table_[s];
       if (ci < 0) return nullptr;
-      if (cells_[ci].key == k) return &cells_[ci];
+      const Cell& c = cells_[ci];
+      if (c.x == x && c.y == y && c.z == z) return &c;
     }
   }
 
   int dim_;
-  double inv_cell_;
+  double cell_, inv_cell_;
   Points points_;                // sorted by cell
   std::vector<uint32_t> index_;  // original index of points_[i]
   std::vector<Cell> cells_;

@@ -47,10 +47,11 @@ sensor_msgs::PointCloud2 pointsToCloud(const core::Points& points, const std_msg
                                        const std::vector<float>* intensity = nullptr);
 
 // Per-point quality cloud of a CorAl pair: fields x, y, z, q, h_sep, h_joint (float32) and
-// scan (uint8, 0 = a, 1 = b). a and b must be the finite scans given to computeCoral, whose
-// points T_header_scans maps into the header's frame; only points with a valid per-point
-// entropy (overlap, not rejected) are written, so colouring by q shows where the two scans
-// disagree.
+// scan (uint8, 0 = a, 1 = b), from the positions the per-point entries carry (the scored
+// points in the scans' common frame, which T_header_scans maps into the header's frame:
+// voxel centroids / the query subset when those are on; a and b are no longer read). Only
+// points with a valid per-point entropy (overlap, not rejected) are written, so colouring by
+// q shows where the two scans disagree.
 sensor_msgs::PointCloud2 buildQualityCloud(
     const core::Scan& a, const core::Scan& b, const core::CoralResult& result,
     const std_msgs::Header& header,

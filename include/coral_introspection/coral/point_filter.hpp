@@ -1,0 +1,30 @@
+// Input hygiene before CorAl (issue 13): unusable points are named and counted, not scored.
+//  - non-finite points and points beyond a sane coordinate range are dropped;
+//  - a scan with more points than a bound is thinned (or refused by the caller), so the
+//    work per pair is bounded;
+//  - coincident points (duplicates, lidar no-returns at the origin) are merged into one, so
+//    a cluster neither dominates its neighbours' covariances nor costs its square.
+#pragma once
+
+#include "coral_introspection/coral/types.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+// The input itself when every point is finite with |x|, |y|, |z| <= max_abs (no copy),
+// otherwise the usable points in *storage (order kept). Counts what was dropped.
+const Points& usablePoints(const Points& in, double max_abs, Points* storage,
+                           std::size_t* non_finite, std::size_t* out_of_range);
+
+// Every (n / max_points)-th point (a deterministic stride, order kept) so that exactly
+// max_points remain; the input when it is not larger.
+Points strideSubsample(const Points& in, std::size_t max_points);
+
+// Points of one scan in the same cube of edge `tolerance` [m] (dim 2: square in x, y) are
+// replaced by their centroid, kept at the place of the group's first point; a point alone
+// is returned bit-identical, so input order and values survive when nothing coincides.
+// tolerance <= 0 returns the input. Returns the number of points removed.
+std::size_t mergeCoincident(const Points& in, double tolerance, int dim, Points* out);
+
+}  // namespace core
+}  // namespace coral_introspection

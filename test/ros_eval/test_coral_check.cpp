@@ -1,0 +1,192 @@
+// coral_check end to end on small files: JSON fields and verdicts for an aligned and a
+// misaligned lidar pair (.pcd + .bin), exit status 2 with a message on bad input, and a
+// radar pair from the Oxford PNGs when the shared data is present.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "coral_introspection/eval/oxford_dataset.hpp"
+#include "coral_introspection/eval/synthetic.hpp"
+#include "support/test_data.hpp"
+
+using namespace coral_introspection::core;
+using coral_test::tempPath;
+
+namespace {
+
+struct CheckRun {
+  int status = -1;
+  std::string out, err;
+};
+
+CheckRun runCheck(const std::string& args) {
+  const std::string err_path = tempPath("coral_check_err", ".txt");
+  const std::string cmd = std::string(CORAL_CHECK_EXE) + " " + args + " 2>" + err_path;
+  CheckRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (p && fgets(buf, sizeof(buf), p)) r.out += buf;
+  const int st = p ? pclose(p) : -1;
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  std::ifstream e(err_path);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+
+// Value of "key": in the one-line JSON object (number or true/false), as text.
+std::string field(const std::string& json, const std::string& key) {
+  const std::string k = "\"" + key + "\": ";
+  const std::size_t at = json.find(k);
+  if (at == std::string::npos) return "";
+  const std::size_t b = at + k.size();
+  return json.substr(b, json.find_first_of(",}", b) - b);
+}
+
+void writePcd(const std::string& path, const Points& pts) {
+  std::ofstream f(path);
+  f << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " << pts.size()
+    << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size() << "\nDATA ascii\n";
+  for (const Vec3& p : pts) f << p.x() << " " << p.y() << " " << p.z() << "\n";
+}
+
+void writeBin(const std::string& path, const Points& pts) {
+  std::ofstream f(path, std::ios::binary);
+  for (const Vec3& p : pts) {
+    const float r[4] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
+    f.write(reinterpret_cast<const char*>(r), sizeof(r));
+  }
+}
+
+void writeMatrix(const std::string& path, const Eigen::Isometry3d& T) {
+  std::ofstream f(path);
+  f.precision(12);
+  f << T.matrix() << "\n";
+}
+
+class CoralCheck : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::mt19937 rng(5);
+    const SyntheticScene scene = SyntheticScene::structuredYard();
+    const Eigen::Isometry3d T_w_a = se2(0, 0, 0);
+    T_a_b_ = se2(0.8, 0.3, 0.05);
+    writePcd(a_, simulateScan(scene, T_w_a, LidarModel(), rng));
+    writeBin(b_, simulateScan(scene, T_a_b_, LidarModel(), rng));
+    writeMatrix(t_good_, T_a_b_);
+    writeMatrix(t_bad_, T_a_b_ * se2(0.5, 0.0, 0.0));
+    std::ofstream(preset_) << "input_type: pointcloud\ncoral:\n  dimension: 3\n  radius: 0.5\n"
+                              "  epsilon: 1.0e-8\n  voxel_leaf: 0.05\n  max_queries: 3000\n";
+  }
+  std::string args(const std::string& t) const {
+    return "--config " + preset_ + " --a " + a_ + " --b " + b_ + " --transform_file " + t;
+  }
+  Eigen::Isometry3d T_a_b_;
+  const std::string a_ = tempPath("cc_a", ".pcd"), b_ = tempPath("cc_b", ".bin");
+  const std::string t_good_ = tempPath("cc_t", ".txt"), t_bad_ = tempPath("cc_tbad", ".txt");
+  const std::string preset_ = tempPath("cc_preset", ".yaml");
+};
+
+}  // namespace
+
+TEST_F(CoralCheck, JudgesAlignedAndMisalignedPairs) {
+  const CheckRun good = runCheck(args(t_good_) + " --repeat 3");
+  ASSERT_EQ(good.status, 0) << good.err;
+  EXPECT_EQ(std::count(good.out.begin(), good.out.end(), '\n'), 1) << good.out;
+  for (const char* k : {"valid", "aligned", "probability", "quality", "h_joint", "h_sep", "overlap",
+                        "num_points_a", "num_points_b", "seconds"})
+    EXPECT_NE(field(good.out, k), "") << k << " missing in " << good.out;
+  EXPECT_EQ(field(good.out, "valid"), "true");
+  EXPECT_EQ(field(good.out, "aligned"), "true") << good.out;
+  EXPECT_GT(std::stod(field(good.out, "seconds")), 0.0);
+  EXPECT_GT(std::stoi(field(good.out, "num_points_a")), 10000);
+  const CheckRun bad = runCheck(args(t_bad_));
+  ASSERT_EQ(bad.status, 0) << bad.err;
+  EXPECT_EQ(field(bad.out, "aligned"), "false") << bad.out;
+  EXPECT_GT(std::stod(field(bad.out, "quality")), std::stod(field(good.out, "quality")) + 0.2);
+}
+
+// T.txt may be 3x4 (KITTI poses): the same pair, the same verdict and Q.
+TEST_F(CoralCheck, ThreeByFourTransformEqualsFourByFour) {
+  const std::string t34 = tempPath("cc_t34", ".txt");
+  {
+    std::ofstream f(t34);
+    f.precision(12);
+    f << T_a_b_.matrix().topRows<3>() << "\n";
+  }
+  const CheckRun r34 = runCheck(args(t34));
+  const CheckRun r44 = runCheck(args(t_good_));
+  ASSERT_EQ(r34.status, 0) << r34.err;
+  EXPECT_EQ(field(r34.out, "quality"), field(r44.out, "quality"));
+  EXPECT_EQ(field(r34.out, "aligned"), "true");
+}
+
+// Degenerate input is judged (exit 0) but gets no verdict, and the JSON says why.
+TEST_F(CoralCheck, IdenticalPointsGiveNoVerdictWithAReason) {
+  const std::string a = tempPath("cc_same_a", ".bin"), b = tempPath("cc_same_b", ".bin");
+  writeBin(a, Points(5000, Vec3(3.0, 1.0, 0.5)));
+  writeBin(b, Points(5000, Vec3(3.0, 1.0, 0.5)));
+  const CheckRun r =
+      runCheck("--config " + preset_ + " --a " + a + " --b " + b + " --transform_file " + t_good_);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(field(r.out, "valid"), "false") << r.out;
+  EXPECT_EQ(field(r.out, "aligned"), "false");
+  const std::string reason = field(r.out, "reason");
+  EXPECT_NE(reason, "") << "no reason key: " << r.out;
+  EXPECT_NE(reason, "\"\"") << r.out;
+}
+
+TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
+  const std::string missing = tempPath("cc_missing", ".pcd");
+  struct Case {
+    std::string args, expect;
+  };
+  const std::string radar_preset = tempPath("cc_radar", ".yaml");
+  std::ofstream(radar_preset) << "input_type: polar_image\n";
+  const std::string bad_preset = tempPath("cc_badp", ".yaml");
+  std::ofstream(bad_preset) << "coral:\n  radius: -1.0\n";
+  const std::string shear = tempPath("cc_shear", ".txt");
+  std::ofstream(shear) << "1 0.5 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  const Case cases[] = {
+      {"--config " + preset_ + " --a " + missing + " --b " + b_ + " --transform_file " + t_good_,
+       missing},
+      {args(shear), "orthonormal"},
+      {"--config " + radar_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
+       "polar_image"},
+      {"--config " + bad_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
+       "radius"},
+      {args(t_good_) + " --repeat 0", "--repeat"},
+      {args(t_good_) + " --bogus 1", "unknown argument"},
+      {"--config " + preset_ + " --a " + a_, "required"},
+  };
+  for (const Case& c : cases) {
+    const CheckRun r = runCheck(c.args);
+    EXPECT_EQ(r.status, 2) << c.args;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << "stderr: " << r.err;
+  }
+}
+
+TEST(CoralCheckRadar, OxfordPngPairAtGroundTruthIsAligned) {
+  CORAL_REQUIRE_DATA("oxford_radar_tiny");
+  OxfordDataset ds;
+  std::string err;
+  ASSERT_TRUE(ds.load(coral_data, &err)) << err;
+  const std::string t = tempPath("cc_radar_t", ".txt");
+  writeMatrix(t, ds.T_prev_curr[1]);
+  const std::string cfg = std::string(CORAL_SOURCE_DIR) + "/config/radar_oxford.yaml";
+  const std::string clf = std::string(CORAL_SOURCE_DIR) + "/config/classifier_radar_oxford.yaml";
+  const CheckRun r =
+      runCheck("--config " + cfg + " --classifier " + clf + " --a " + ds.png_paths[0] + " --b " +
+               ds.png_paths[1] + " --transform_file " + t);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(field(r.out, "valid"), "true") << r.out;
+  EXPECT_EQ(field(r.out, "aligned"), "true") << r.out;
+  EXPECT_GT(std::stoi(field(r.out, "num_points_a")), 300);
+}
