@@ -27,7 +27,10 @@ target_include_directories(coral_introspection_coral SYSTEM PUBLIC ${EIGEN3_INCL
 coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral ${OpenCV_LIBS})
 target_include_directories(coral_introspection_radar SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
 coral_add_library(coral_introspection_online online DEPS coral_introspection_radar)
-coral_add_library(coral_introspection_eval eval DEPS coral_introspection_radar ${PCL_LIBRARIES})
+find_package(BZip2 REQUIRED)  # CARMEN .clf.bz2 logs (eval/carmen_log)
+find_package(Threads REQUIRED)  # coral_train computes samples on every core
+coral_add_library(coral_introspection_eval eval DEPS coral_introspection_radar ${PCL_LIBRARIES}
+                  BZip2::BZip2 Threads::Threads)
 # PCL's PCD reader for eval/cloud_io (tools and tests only; the nodelet does not link it).
 target_include_directories(coral_introspection_eval SYSTEM PUBLIC ${PCL_INCLUDE_DIRS})
 

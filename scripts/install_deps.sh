@@ -23,6 +23,8 @@ PKGS=(
   python3-numpy
   # sanitizer build and libFuzzer harnesses (scripts/test_sanitizers.sh, scripts/fuzz.sh)
   clang libclang-rt-14-dev llvm-14
+  # tools: CARMEN .clf.bz2 laser logs (eval)
+  libbz2-dev
 )
 
 missing=()

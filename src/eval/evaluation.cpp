@@ -33,9 +33,7 @@ void selectSamples(const SampleSet& set, int method, const std::string& group,
   }
 }
 
-namespace {
-
-bool fitIndices(const SampleSet& set, int method, const std::vector<int>& idx,
+bool fitSamples(const SampleSet& set, int method, const std::vector<int>& idx,
                 const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error) {
   const int d = static_cast<int>(set.methods.at(method).feature_names.size());
   Eigen::MatrixXd X(idx.size(), d);
@@ -48,13 +46,17 @@ bool fitIndices(const SampleSet& set, int method, const std::vector<int>& idx,
   return fitLogisticRegression(X, y, {}, cfg, model, error);
 }
 
+namespace {
+
 double predict(const LogisticModel& m, const Sample& s, int method) {
   const std::vector<double>& f = s.features[method];
   return m.probability(Eigen::Map<const Eigen::VectorXd>(f.data(), f.size()));
 }
 
-void finishRow(const SampleSet& set, const std::vector<int>& idx, double threshold,
-               EvaluationRow* row) {
+}  // namespace
+
+void summarizeRow(const SampleSet& set, const std::vector<int>& idx, double threshold,
+                  EvaluationRow* row) {
   std::set<int> pairs;
   for (int i : idx) pairs.insert(set.samples[i].pair);
   row->pairs = static_cast<int>(pairs.size());
@@ -65,14 +67,12 @@ void finishRow(const SampleSet& set, const std::vector<int>& idx, double thresho
   row->auc = auc(row->scores, row->labels);
 }
 
-}  // namespace
-
 bool fitMethod(const SampleSet& set, int method, const std::string& group,
                const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error) {
   std::vector<int> idx;
   int skipped = 0;
   selectSamples(set, method, group, &idx, &skipped);
-  return fitIndices(set, method, idx, cfg, model, error);
+  return fitSamples(set, method, idx, cfg, model, error);
 }
 
 bool crossValidate(const SampleSet& set, const EvaluationConfig& cfg,
@@ -108,7 +108,7 @@ bool crossValidate(const SampleSet& set, const EvaluationConfig& cfg,
         LogisticModel model;
         std::string err;
         if (test.empty() ||
-            !fitIndices(set, static_cast<int>(m), train, cfg.regression, &model, &err))
+            !fitSamples(set, static_cast<int>(m), train, cfg.regression, &model, &err))
           continue;  // e.g. one class only in the training folds: this fold is not scored
         for (int i : test) {
           row.scores.push_back(predict(model, set.samples[i], static_cast<int>(m)));
@@ -117,7 +117,7 @@ bool crossValidate(const SampleSet& set, const EvaluationConfig& cfg,
         }
         ++row.folds;
       }
-      finishRow(set, scored, cfg.regression.threshold, &row);
+      summarizeRow(set, scored, cfg.regression.threshold, &row);
       rows->push_back(row);
     }
   return true;
@@ -148,8 +148,8 @@ bool trainTest(const SampleSet& train, const SampleSet& test, const EvaluationCo
           row.scores.push_back(predict(model, test.samples[i], static_cast<int>(m)));
           row.labels.push_back(test.samples[i].label);
         }
-      finishRow(test, row.scores.empty() ? std::vector<int>{} : idx, cfg.regression.threshold,
-                &row);
+      summarizeRow(test, row.scores.empty() ? std::vector<int>{} : idx, cfg.regression.threshold,
+                   &row);
       rows->push_back(row);
     }
   return true;

@@ -26,7 +26,10 @@ bool writeTextFile(const std::string& path, const std::string& text, std::string
 
 bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string* error) {
   std::ostringstream s;
-  s << "pair,stamp_a,stamp_b,offset,dx,dy,dyaw,group,label";
+  // The dataset column only when a sample names its data set (sets of several data sets).
+  const bool with_dataset = std::any_of(set.samples.begin(), set.samples.end(),
+                                        [](const Sample& x) { return !x.dataset.empty(); });
+  s << "pair,stamp_a,stamp_b,offset,dx,dy,dyaw,group,label" << (with_dataset ? ",dataset" : "");
   for (const MethodSpec& m : set.methods)
     for (const std::string& f : m.feature_names) s << ',' << m.name << '/' << f;
   s << '\n' << std::setprecision(10);
@@ -34,6 +37,8 @@ bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string*
     s << x.pair << ',' << std::fixed << std::setprecision(6) << x.stamp_a << ',' << x.stamp_b
       << std::defaultfloat << std::setprecision(10) << ',' << x.offset << ',' << x.dx << ',' << x.dy
       << ',' << x.dyaw << ',' << x.group << ',' << x.label;
+    if (with_dataset) s << ',' << x.dataset;
+    s << std::setprecision(17);  // features round-trip exactly: a refit from the file is equal
     for (const auto& f : x.features)
       for (double v : f) s << ',' << v;  // NaN = method gave no value
     s << '\n';

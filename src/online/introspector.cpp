@@ -37,11 +37,14 @@ PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isom
   j.cur = core::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
   core::CoralConfig cc = cfg.coral;
   cc.per_point = per_point;
-  j.coral = core::computeCoral(j.ref, j.cur, cc);
-  if (j.coral.valid)
-    j.verdict = core::classify(cfg.classifier, j.coral.h_joint, j.coral.h_sep);  // Eq. 9-10
-  else
-    j.reason = noVerdictReason(j.coral, cfg.coral);
+  j.verdict.coral = core::computeCoral(j.ref, j.cur, cc);
+  // The one verdict function (coral/verdict.hpp), as coral_train evaluates it: classifier
+  // (Eq. 9-10), relative check at the tolerance, or both, as classifier/method says.
+  core::decideAlignment(j.ref, cur, T_ref_cur, cfg.coral, cfg.verdict, &j.verdict);
+  if (!j.verdict.coral.valid)
+    j.reason = noVerdictReason(j.verdict.coral, cfg.coral);
+  else if (!j.verdict.valid)
+    j.reason = j.verdict.reason;
   return j;
 }
 
@@ -160,8 +163,9 @@ void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) 
                         options.per_point);
   if (!options.keep_scans) rep->pair.ref = rep->pair.cur = core::Scan();
   ++counters_.pairs;
-  counters_.coral_seconds += rep->pair.coral.seconds;
-  if (rep->pair.coral.valid) {
+  counters_.coral_seconds += rep->pair.verdict.coral.seconds;
+  counters_.coral_evaluations += 1 + rep->pair.verdict.relative.coral_evaluations;
+  if (rep->pair.verdict.valid) {
     ++counters_.valid_pairs;
     if (!rep->pair.verdict.aligned) ++counters_.misaligned;
   }

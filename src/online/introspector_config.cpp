@@ -33,7 +33,9 @@ std::string IntrospectorConfig::validate() const {
   std::string e;
   add(&e, pairing.validate());  // names its parameters itself
   add(&e, prefixMessages("coral/", coral.validate()));
-  add(&e, prefixMessages("classifier/", classifier.validate()));
+  add(&e, prefixMessages("classifier/", verdict.classifier.validate()));
+  add(&e, prefixMessages("classifier/", verdict.relative.validate()));  // relative_margin, ...
+  add(&e, prefixMessages("tolerance/", verdict.tolerance.validate()));
   add(&e, prefixMessages("motion_compensation/", deskew.validate()));
   if (doppler.enabled) add(&e, prefixMessages("doppler/", doppler.validate()));
   return e;

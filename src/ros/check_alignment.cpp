@@ -25,7 +25,7 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
               : convert(req.image_a, "image_a", &sa) && convert(req.image_b, "image_b", &sb)) &&
       toEigen(req.transform_a_b, &T_a_b, &error);
   if (!ok) {
-    res->result = toMessage(core::CoralResult(), core::Verdict(), ha, ha.stamp, stamp_b);
+    res->result = toMessage(core::AlignmentVerdict(), cfg.online.verdict, ha, ha.stamp, stamp_b);
     res->error = "request refused: " + error;
     res->result.status = AlignmentQuality::REFUSED;
     res->result.reason = res->error;
@@ -35,7 +35,7 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
   a.points = std::move(sa.scan.features.points);
   b.points = std::move(sb.scan.features.points);
   const online::PairJudgement j = online::judgePair(std::move(a), b, T_a_b, cfg.online, false);
-  res->result = toMessage(j.coral, j.verdict, ha, ha.stamp, stamp_b);
+  res->result = toMessage(j.verdict, cfg.online.verdict, ha, ha.stamp, stamp_b);
   res->result.reason = j.reason;
   res->error = j.reason;
   return true;

@@ -249,6 +249,28 @@ AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict&
   return m;
 }
 
+AlignmentQuality toMessage(const core::AlignmentVerdict& v, const core::VerdictConfig& cfg,
+                           const std_msgs::Header& header, const ros::Time& stamp_a,
+                           const ros::Time& stamp_b) {
+  core::Verdict combined;
+  combined.aligned = v.aligned;
+  combined.probability = v.probability;
+  AlignmentQuality m = toMessage(v.coral, combined, header, stamp_a, stamp_b);
+  m.valid = v.valid;  // the relative check may lack valid neighbours where CorAl is valid
+  m.status = v.valid ? AlignmentQuality::VERDICT : AlignmentQuality::INVALID_PAIR;
+  m.aligned = v.valid && v.aligned;
+  m.probability = v.valid ? v.probability : 0.0;
+  m.method = core::verdictMethodName(cfg.method);
+  m.tolerance_translation = cfg.tolerance.translation;
+  m.tolerance_rotation = cfg.tolerance.rotation_deg;
+  m.relative_score = v.relative.valid ? v.relative.score : std::nan("");
+  m.correction_hint = v.relative.hint.name;
+  m.correction = toTransformMsg(v.relative.hint.name.empty() ? Eigen::Isometry3d::Identity()
+                                                             : v.relative.hint.delta);
+  for (core::Axis a : v.relative.flat_axes) m.flat_axes.push_back(core::axisName(a));
+  return m;
+}
+
 VelocityConsistency toMessage(const online::DopplerReport& d, const std_msgs::Header& header) {
   const core::ConsistencyResult& r = d.result;
   VelocityConsistency m;

@@ -198,8 +198,8 @@ class CoralNodelet : public nodelet::Nodelet {
       done.status = ros_adapters::reportStatus(*r, job.kind == ScanEvent::Kind::kNoPose);
       done.reason = r->reason;
       done.problem = !r->has_pose || restart;
-      done.latency =
-          outputs_.publish(*r, done.status, job.header, job.receipt, cfg.fixed_frame, opt);
+      done.latency = outputs_.publish(*r, done.status, job.header, job.receipt, cfg.fixed_frame,
+                                      opt, cfg.online.verdict);
     }
     done.seconds = (ros::WallTime::now() - start).toSec();
     stats_.finished(done);

@@ -11,7 +11,7 @@ namespace ros_adapters {
 
 uint8_t reportStatus(const online::Report& r, bool pose_failed) {
   if (r.judged)
-    return r.pair.coral.valid ? AlignmentQuality::VERDICT : AlignmentQuality::INVALID_PAIR;
+    return r.pair.verdict.valid ? AlignmentQuality::VERDICT : AlignmentQuality::INVALID_PAIR;
   if (r.has_pose) return AlignmentQuality::NOT_PAIRED;
   return pose_failed ? AlignmentQuality::NO_POSE : AlignmentQuality::REFUSED;
 }
@@ -40,7 +40,7 @@ online::ProcessOptions Outputs::options(const NodeConfig& cfg, bool is_radar) co
 
 double Outputs::publish(const online::Report& r, uint8_t status, const std_msgs::Header& h,
                         const ros::Time& receipt, const std::string& fixed_frame,
-                        const online::ProcessOptions& o) const {
+                        const online::ProcessOptions& o, const core::VerdictConfig& verdict) const {
   if (r.doppler && doppler_) doppler_.publish(toMessage(*r.doppler, h));
   if (o.keep_features && r.has_pose)
     features_.publish(pointsToCloud(r.features.points, h, &r.features.intensity));
@@ -50,9 +50,10 @@ double Outputs::publish(const online::Report& r, uint8_t status, const std_msgs:
   // The report's ids are the scans' header stamps in ns (ros_adapters::toSensorScan).
   AlignmentQuality m;
   if (r.judged) {
-    m = toMessage(r.pair.coral, r.pair.verdict, out, ros::Time().fromNSec(r.id_ref), h.stamp);
+    m = toMessage(r.pair.verdict, verdict, out, ros::Time().fromNSec(r.id_ref), h.stamp);
     if (o.per_point)  // the pair is in the reference sensor frame
-      quality_.publish(buildQualityCloud(r.pair.ref, r.pair.cur, r.pair.coral, out, r.T_fixed_ref));
+      quality_.publish(
+          buildQualityCloud(r.pair.ref, r.pair.cur, r.pair.verdict.coral, out, r.T_fixed_ref));
   } else {
     m.header = out;
     m.stamp_b = h.stamp;

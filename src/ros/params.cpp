@@ -119,6 +119,15 @@ class Reader {
   std::string error_;
 };
 
+// Indexed by core::VerdictMethod.
+std::vector<std::string> methodNames() {
+  std::vector<std::string> n;
+  for (auto m : {core::VerdictMethod::kClassifier, core::VerdictMethod::kRelative,
+                 core::VerdictMethod::kBoth})
+    n.push_back(core::verdictMethodName(m));
+  return n;
+}
+
 bool readAll(Reader& r, NodeConfig* c) {
   online::IntrospectorConfig& o = c->online;
   int input = c->input_type == InputType::kPolarImage ? 1 : 0;
@@ -126,6 +135,7 @@ bool readAll(Reader& r, NodeConfig* c) {
   int fmt = c->polar_format == PolarFormat::kPlain ? 1 : 0;
   int dir = c->polar.direction == core::AzimuthDirection::kClockwise ? 1 : 0;
   int seed = static_cast<int>(o.doppler.check.seed);
+  int method = static_cast<int>(o.verdict.method);  // core::VerdictMethod order
   const bool ok =
       r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
@@ -150,10 +160,15 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("coral/refuse_over_max_points", &o.coral.refuse_over_max_points) &&
       r.get("coral/merge_distance", &o.coral.merge_distance) &&
       r.get("coral/max_degenerate_fraction", &o.coral.max_degenerate_fraction) &&
-      r.get("classifier/beta0", &o.classifier.beta0) &&
-      r.get("classifier/beta1", &o.classifier.beta1) &&
-      r.get("classifier/beta2", &o.classifier.beta2) &&
-      r.get("classifier/threshold", &o.classifier.threshold) &&
+      r.get("classifier/beta0", &o.verdict.classifier.beta0) &&
+      r.get("classifier/beta1", &o.verdict.classifier.beta1) &&
+      r.get("classifier/beta2", &o.verdict.classifier.beta2) &&
+      r.get("classifier/threshold", &o.verdict.classifier.threshold) &&
+      r.getChoice("classifier/method", methodNames(), &method) &&
+      r.get("classifier/relative_margin", &o.verdict.relative.margin) &&
+      r.get("classifier/flat_ratio", &o.verdict.relative.flat_ratio) &&
+      r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
+      r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&
       r.get("radar/range_resolution", &c->polar.range_resolution) &&
       r.get("radar/first_data_column", &c->polar.first_data_column) &&
@@ -183,6 +198,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("doppler/sigma_azimuth", &o.doppler.noise.sigma_azimuth) &&
       r.get("doppler/sigma_elevation", &o.doppler.noise.sigma_elevation);
   c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
+  o.verdict.method = static_cast<core::VerdictMethod>(method);
   o.coral.aggregation = agg == 1 ? core::Aggregation::kMedian : core::Aggregation::kMean;
   c->polar_format = fmt == 1 ? PolarFormat::kPlain : PolarFormat::kOxford;
   c->polar.direction =
@@ -247,8 +263,8 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
       return false;
     }
     if (warnings)
-      r.unknownKeys({"pairing", "coral", "classifier", "radar", "rip", "motion_compensation",
-                     "publish", "doppler", "testing"},
+      r.unknownKeys({"pairing", "coral", "classifier", "tolerance", "radar", "rip",
+                     "motion_compensation", "publish", "doppler", "testing"},
                     warnings);
   } catch (const XmlRpc::XmlRpcException& e) {
     *error = std::string("malformed parameter tree: ") + e.getMessage();

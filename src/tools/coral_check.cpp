@@ -215,15 +215,15 @@ int main(int argc, char** argv) {
   std::sort(seconds.begin(), seconds.end());
   const std::size_t n = seconds.size();
   const double median = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
-  const core::CoralResult& r = out.coral;
+  const core::CoralResult& r = out.verdict.coral;
   std::printf(
       "{\"valid\": %s, \"aligned\": %s, \"probability\": %.6f, \"quality\": %.6f, "
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
       "\"num_points_b\": %zu, \"seconds\": %.6f, \"quality_stderr\": %.6f, \"num_valid\": %zu, "
       "\"num_queries\": %zu, \"num_non_finite\": %zu, \"num_out_of_range\": %zu, "
       "\"num_thinned\": %zu, \"num_merged\": %zu, \"num_degenerate\": %zu, \"reason\": \"%s\"}\n",
-      r.valid ? "true" : "false", r.valid && out.verdict.aligned ? "true" : "false",
-      r.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
+      r.valid ? "true" : "false", out.verdict.valid && out.verdict.aligned ? "true" : "false",
+      out.verdict.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
       r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
       jsonEscape(out.reason).c_str());

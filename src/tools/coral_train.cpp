@@ -13,6 +13,7 @@
 #include "coral_introspection/eval/oxford_training.hpp"
 #include "coral_introspection/eval/training_run.hpp"
 #include "coral_introspection/ros_eval/bag_training_reader.hpp"
+#include "coral_introspection/ros_eval/verdict_training.hpp"
 
 using namespace coral_introspection::core;
 namespace ros_adapters = coral_introspection::ros_adapters;
@@ -20,7 +21,31 @@ namespace ros_adapters = coral_introspection::ros_adapters;
 namespace {
 
 const char* kUsage =
-    R"(Usage: rosrun coral_introspection coral_train (--oxford DIR | --bag FILE) [options]
+    R"(Usage: rosrun coral_introspection coral_train --preset YAML (--dataset SPEC ... | --samples CSV ...)
+                                                  [tolerance options]
+       rosrun coral_introspection coral_train (--oxford DIR | --bag FILE) [paper protocol options]
+
+Tolerance mode (--preset): trains and evaluates the preset's verdict at its tolerance
+(tolerance/translation [m], tolerance/rotation_deg [deg]) with the preset's CorAl settings:
+the trained classifier, the training-free relative check and their combination, in data set
+(contiguous CV), cross data set and leave one data set out; writes report.md, roc.png,
+verdict.yaml (the preset's tolerance + classifier sections, default method chosen by the
+leave-one-out accuracy) and samples.csv.
+  --preset YAML           sensor preset, e.g. config/lidar_3d.yaml
+  --dataset [NAME=]KIND:PATH   repeatable; KIND: oxford DIR | keyframes DIR (Scans/*.pcd +
+                          optimized_poses.txt) | carmen FILE.clf[.bz2] (+ .relations) |
+                          cloudlist FILE (name + 4x4 pose per line) | bag FILE (--scan_topic,
+                          --odom_topic, --fixed_frame)
+  --samples CSV           repeatable; fit from sample files (e.g. the shards) instead
+  --shard I/N             compute only pairs with index % N == I and write
+                          samples_shardIofN.csv (for a job array / GNU parallel), e.g.
+                            parallel coral_train --preset P --dataset D --shard {}/8 \
+                              --output shards ::: 0 1 2 3 4 5 6 7
+                            coral_train --preset P --samples shards/samples_shard0of8.csv \
+                              ... --samples shards/samples_shard7of8.csv --output report
+  --threads N             worker threads; 0 = every core                    [0]
+  --relative_margin M     relative-check margin instead of the preset's
+  --max_scans N  --folds K  --output DIR  --no_csv   as below
 
 Builds aligned scan pairs from accurate poses, induces misalignments in the sensor frame of
 the later scan (T_a_b' = T_a_b * Delta), computes CorAl, CorAl-median, MME, NDT, Rel-NDT and
@@ -127,10 +152,48 @@ bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
   return true;
 }
 
+// --preset: the tolerance mode (ros_eval/verdict_training.hpp).
+int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::string>& datasets,
+                const std::vector<std::string>& sample_files, const std::string& command) {
+  for (const char* k : {"--oxford", "--bag", "--test_oxford", "--test_bag", "--magnitudes"})
+    if (opt.count(k)) {
+      std::cerr << "coral_train: " << k << " belongs to the paper protocol, not to --preset\n";
+      return 2;
+    }
+  ros_adapters::VerdictTrainingOptions v;
+  v.preset = opt["--preset"];
+  v.datasets = datasets;
+  v.sample_files = sample_files;
+  v.command = command;
+  try {
+    if (opt.count("--output")) v.output_dir = opt["--output"];
+    v.write_csv = !opt.count("--no_csv");
+    if (opt.count("--threads")) v.threads = std::stoi(opt["--threads"]);
+    if (opt.count("--max_scans")) v.max_scans = std::stoi(opt["--max_scans"]);
+    if (opt.count("--folds")) v.folds = std::stoi(opt["--folds"]);
+    if (opt.count("--relative_margin")) v.relative_margin = std::stod(opt["--relative_margin"]);
+    if (opt.count("--scan_topic")) v.bag_scan_topic = opt["--scan_topic"];
+    if (opt.count("--odom_topic")) v.bag_odom_topic = opt["--odom_topic"];
+    if (opt.count("--fixed_frame")) v.bag_fixed_frame = opt["--fixed_frame"];
+    if (opt.count("--shard")) {
+      const std::string& s = opt["--shard"];
+      const std::size_t slash = s.find('/');
+      if (slash == std::string::npos) throw std::invalid_argument("--shard needs I/N");
+      v.shard_index = std::stoi(s.substr(0, slash));
+      v.shard_count = std::stoi(s.substr(slash + 1));
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "coral_train: bad option value: " << e.what() << "\n";
+    return 2;
+  }
+  return ros_adapters::runVerdictTraining(v, std::cerr);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::map<std::string, std::string> opt;
+  std::vector<std::string> datasets, sample_files;  // repeatable options
   const std::vector<std::string> flags = {"--no_cfear", "--no_motion_compensation", "--no_csv",
                                           "--help"};
   std::string command = "rosrun coral_introspection coral_train";
@@ -148,6 +211,8 @@ int main(int argc, char** argv) {
     } else if (i + 1 < argc) {
       opt[a] = argv[++i];
       command += " " + (opt[a].find(' ') == std::string::npos ? opt[a] : "\"" + opt[a] + "\"");
+      if (a == "--dataset") datasets.push_back(opt[a]);
+      if (a == "--samples") sample_files.push_back(opt[a]);
     } else {
       std::cerr << "coral_train: " << a << " needs a value\n";
       return 2;
@@ -182,13 +247,20 @@ int main(int argc, char** argv) {
                                           "--threshold",
                                           "--classifier_method",
                                           "--classifier_group",
-                                          "--output"};
+                                          "--output",
+                                          "--preset",
+                                          "--dataset",
+                                          "--samples",
+                                          "--shard",
+                                          "--threads",
+                                          "--relative_margin"};
   for (const auto& kv : opt)
     if (std::find(known.begin(), known.end(), kv.first) == known.end() &&
         std::find(flags.begin(), flags.end(), kv.first) == flags.end()) {
       std::cerr << "coral_train: unknown option " << kv.first << "\n" << kUsage;
       return 2;
     }
+  if (opt.count("--preset")) return verdictMode(opt, datasets, sample_files, command);
   if (opt.count("--oxford") == opt.count("--bag")) {
     std::cerr << "coral_train: give exactly one of --oxford DIR and --bag FILE\n" << kUsage;
     return 2;

@@ -57,9 +57,9 @@ online::ScanInput radarInput(double t0, std::mt19937& rng, const Eigen::Isometry
 online::IntrospectorConfig radarConfig() {
   online::IntrospectorConfig c;
   c.coral = core::CoralConfig::radarPaper();  // 2D, r = 1 m
-  c.classifier.beta0 = 11.0;                  // boundary Q = 0.55 nats (radar preset)
-  c.classifier.beta1 = -20.0;
-  c.classifier.beta2 = 20.0;
+  c.verdict.classifier.beta0 = 11.0;          // boundary Q = 0.55 nats (radar preset)
+  c.verdict.classifier.beta1 = -20.0;
+  c.verdict.classifier.beta2 = 20.0;
   return c;
 }
 
@@ -78,9 +78,9 @@ online::IntrospectorConfig lidarConfig() {
   online::IntrospectorConfig c;  // the lidar_3d preset's CorAl and classifier
   c.coral.radius = 1.0;
   c.coral.epsilon = 1e-4;
-  c.classifier.beta0 = 4.0;  // boundary Q = 0.2 nats
-  c.classifier.beta1 = -20.0;
-  c.classifier.beta2 = 20.0;
+  c.verdict.classifier.beta0 = 4.0;  // boundary Q = 0.2 nats
+  c.verdict.classifier.beta1 = -20.0;
+  c.verdict.classifier.beta2 = 20.0;
   return c;
 }
 
@@ -117,7 +117,7 @@ TEST(Introspector, LidarPoseErrorFlagsExactlyThePairsUsingIt) {
     EXPECT_DOUBLE_EQ(r.stamp_ref, 0.1 * (k - 1));
     const bool uses_bad = k == bad || k == bad + 1;
     EXPECT_EQ(r.pair.verdict.aligned, !uses_bad)
-        << "pair " << k - 1 << "-" << k << " Q = " << r.pair.coral.quality;
+        << "pair " << k - 1 << "-" << k << " Q = " << r.pair.verdict.coral.quality;
   }
   EXPECT_EQ(intro.counters().pairs, 5u);
   EXPECT_EQ(intro.counters().valid_pairs, 5u);
@@ -139,11 +139,12 @@ TEST(Introspector, RadarDeskewMakesTheMovingScansConsistent) {
       const online::Report r = intro.process(radarInput(t0, rng, drivePose(t0 - 50.0)));
       EXPECT_EQ(r.deskewed, deskew && k > 0) << k;
       if (!r.judged) continue;
-      ASSERT_TRUE(r.pair.coral.valid) << r.reason;
+      ASSERT_TRUE(r.pair.verdict.coral.valid) << r.reason;
       ++judged;
-      (deskew ? q_deskew : q_raw) += r.pair.coral.quality / 4.0;
+      (deskew ? q_deskew : q_raw) += r.pair.verdict.coral.quality / 4.0;
       if (deskew) {
-        EXPECT_TRUE(r.pair.verdict.aligned) << "pair " << k << " Q = " << r.pair.coral.quality;
+        EXPECT_TRUE(r.pair.verdict.aligned)
+            << "pair " << k << " Q = " << r.pair.verdict.coral.quality;
       }
     }
     EXPECT_EQ(judged, 4);
@@ -204,7 +205,7 @@ TEST(Introspector, LoopingBagRestartsPairingAndClearsTheVelocityHistory) {
   const online::Report next = intro.process(radarInput(100.25, rng, drivePose(0.25)), keep);
   EXPECT_EQ(next.action, PairAction::kPair);
   ASSERT_TRUE(next.hasVerdict()) << next.reason;
-  EXPECT_TRUE(next.pair.verdict.aligned) << "Q = " << next.pair.coral.quality;
+  EXPECT_TRUE(next.pair.verdict.aligned) << "Q = " << next.pair.verdict.coral.quality;
   EXPECT_DOUBLE_EQ(next.stamp_ref, 100.0);
   // The reset scan was de-skewed with the twist of the new sequence only.
   core::Twist v;
@@ -301,13 +302,13 @@ TEST(JudgePair, ExplainsWhyThereIsNoVerdict) {
   const online::IntrospectorConfig cfg = lidarConfig();
   const online::PairJudgement ok =
       online::judgePair(a, b, core::se2(-8, -1, 0).inverse() * core::se2(-7.5, -1, 0), cfg, true);
-  ASSERT_TRUE(ok.coral.valid) << ok.reason;
+  ASSERT_TRUE(ok.verdict.coral.valid) << ok.reason;
   EXPECT_TRUE(ok.reason.empty());
-  EXPECT_TRUE(ok.verdict.aligned) << "Q = " << ok.coral.quality;
-  EXPECT_EQ(ok.coral.per_point.size(), a.points.size() + b.points.size());
+  EXPECT_TRUE(ok.verdict.aligned) << "Q = " << ok.verdict.coral.quality;
+  EXPECT_EQ(ok.verdict.coral.per_point.size(), a.points.size() + b.points.size());
   // 100 m away: no overlap.
   const online::PairJudgement far = online::judgePair(a, b, core::se2(100, 0, 0), cfg, false);
-  EXPECT_FALSE(far.coral.valid);
+  EXPECT_FALSE(far.verdict.coral.valid);
   EXPECT_NE(far.reason.find("overlap"), std::string::npos) << far.reason;
   EXPECT_NE(far.reason.find("min_overlap"), std::string::npos) << far.reason;
 }

@@ -60,12 +60,12 @@ TEST(OxfordTrainingVsIntrospector, IdenticalDeskewedFeaturesAndQ) {
     compared_points += ref.size() + cur.points.size();
     // CorAl as training computes it for the aligned sample (x1 = H_joint, x2 = H_sep).
     const auto f = core::computeFeatures(train[p.a], train[p.b], {}, {}, p.T_a_b, fcfg);
-    ASSERT_TRUE(r.pair.coral.valid) << r.reason;
-    EXPECT_EQ(r.pair.coral.h_joint, f[0][0]) << "pair " << i;
-    EXPECT_EQ(r.pair.coral.h_sep, f[0][1]) << "pair " << i;
-    EXPECT_EQ(r.pair.coral.quality, f[0][0] - f[0][1]) << "pair " << i;
-    std::printf("pair %zu: Q %.6f (both paths), %zu + %zu features\n", i, r.pair.coral.quality,
-                ref.size(), cur.points.size());
+    ASSERT_TRUE(r.pair.verdict.coral.valid) << r.reason;
+    EXPECT_EQ(r.pair.verdict.coral.h_joint, f[0][0]) << "pair " << i;
+    EXPECT_EQ(r.pair.verdict.coral.h_sep, f[0][1]) << "pair " << i;
+    EXPECT_EQ(r.pair.verdict.coral.quality, f[0][0] - f[0][1]) << "pair " << i;
+    std::printf("pair %zu: Q %.6f (both paths), %zu + %zu features\n", i,
+                r.pair.verdict.coral.quality, ref.size(), cur.points.size());
   }
   EXPECT_GT(compared_points, 5000u);
 }

@@ -259,6 +259,48 @@ TEST(ToMessage, InvalidResultIsNeverAligned) {
   EXPECT_DOUBLE_EQ(m2.probability, 0.9);
 }
 
+// The verdict's terms reach the message: method, tolerance, the relative check's hint as a
+// name and a transform, flat axes; a verdict without valid neighbours is not "valid" even
+// though CorAl at the pose was.
+TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
+  core::VerdictConfig cfg;
+  cfg.method = core::VerdictMethod::kRelative;
+  cfg.tolerance.translation = 0.5;
+  cfg.tolerance.rotation_deg = 1.0;
+  const std::vector<core::ToleranceOffset> offsets = core::toleranceOffsets(cfg.tolerance, 2);
+  core::AlignmentVerdict v;
+  v.coral.valid = true;
+  v.coral.quality = 0.4;
+  // Q at the pose 0.4; x- (index 1) is much lower: misaligned, hint x-; yaw hardly changes.
+  v.relative =
+      core::decideRelative(0.4, offsets, {0.9, 0.1, 0.8, 0.8, 0.4001, 0.4002}, cfg.relative);
+  core::combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
+  ASSERT_TRUE(v.valid);
+  std_msgs::Header h;
+  const auto m = ros_adapters::toMessage(v, cfg, h, ros::Time(1.0), ros::Time(2.0));
+  EXPECT_TRUE(m.valid);
+  EXPECT_FALSE(m.aligned);
+  EXPECT_EQ(m.method, "relative");
+  EXPECT_DOUBLE_EQ(m.tolerance_translation, 0.5);
+  EXPECT_DOUBLE_EQ(m.tolerance_rotation, 1.0);
+  EXPECT_EQ(m.correction_hint, "x-");
+  EXPECT_NEAR(m.correction.translation.x, -0.5, 1e-12);
+  EXPECT_NEAR(m.correction.rotation.w, 1.0, 1e-12);
+  ASSERT_EQ(m.flat_axes.size(), 1u);
+  EXPECT_EQ(m.flat_axes[0], "yaw");
+  EXPECT_GT(m.relative_score, cfg.relative.margin);
+
+  core::AlignmentVerdict none;  // CorAl valid, no valid neighbour: no verdict
+  none.coral.valid = true;
+  core::combineVerdict(cfg.method, none.classifier, none.relative, cfg.relative, &none);
+  const auto n = ros_adapters::toMessage(none, cfg, h, ros::Time(1.0), ros::Time(2.0));
+  EXPECT_FALSE(n.valid);
+  EXPECT_FALSE(n.aligned);
+  EXPECT_TRUE(std::isnan(n.relative_score));
+  EXPECT_EQ(n.correction_hint, "");
+  EXPECT_NEAR(n.correction.rotation.w, 1.0, 1e-12);  // identity: no step suggested
+}
+
 TEST(Transforms, RoundTripAndRejectBadQuaternion) {
   const Eigen::Isometry3d T = core::se2(1.0, -2.0, 0.7) * Eigen::Translation3d(0, 0, 0.3);
   const geometry_msgs::Transform m = ros_adapters::toTransformMsg(T);

@@ -21,7 +21,7 @@ TEST(Params, EmptyTreeGivesCoreDefaults) {
   EXPECT_EQ(c.input_type, ros_adapters::InputType::kPointCloud);
   EXPECT_EQ(c.fixed_frame, "odom");
   EXPECT_DOUBLE_EQ(c.online.coral.radius, core::CoralConfig().radius);
-  EXPECT_DOUBLE_EQ(c.online.classifier.beta0, core::ClassifierConfig().beta0);
+  EXPECT_DOUBLE_EQ(c.online.verdict.classifier.beta0, core::ClassifierConfig().beta0);
   EXPECT_EQ(c.rip.k, core::RipConfig().k);
   EXPECT_EQ(c.online.deskew.window, core::DeskewConfig().window);
   EXPECT_EQ(c.online.doppler.check.seed, core::DopplerConfig().seed);
@@ -61,8 +61,8 @@ TEST(Params, ReadsNestedValuesOfEveryType) {
   EXPECT_DOUBLE_EQ(c.online.coral.radius, 1.0);
   EXPECT_EQ(c.online.coral.aggregation, core::Aggregation::kMedian);
   EXPECT_TRUE(c.online.coral.dynamic_radius);
-  EXPECT_DOUBLE_EQ(c.online.classifier.beta0, 11.0);
-  EXPECT_DOUBLE_EQ(c.online.classifier.threshold, 0.7);
+  EXPECT_DOUBLE_EQ(c.online.verdict.classifier.beta0, 11.0);
+  EXPECT_DOUBLE_EQ(c.online.verdict.classifier.threshold, 0.7);
   EXPECT_EQ(c.polar_format, ros_adapters::PolarFormat::kPlain);
   EXPECT_EQ(c.polar.direction, core::AzimuthDirection::kClockwise);
   EXPECT_EQ(c.polar.num_azimuths, 400);

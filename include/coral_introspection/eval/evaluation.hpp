@@ -22,6 +22,7 @@ struct MethodSpec {
 // One aligned or misaligned version of a scan pair.
 struct Sample {
   int pair = 0;                           // pair index; every sample of a pair lands in one fold
+  std::string dataset;                    // data set the pair comes from (may be empty)
   double stamp_a = 0.0, stamp_b = 0.0;    // [s]
   std::string offset = "aligned";         // perturbation name ("forward", "yaw+", ...)
   std::string group;                      // error-magnitude label; empty when aligned
@@ -61,6 +62,15 @@ struct EvaluationRow {
 // (group empty = every misaligned sample), with finite features.
 void selectSamples(const SampleSet& set, int method, const std::string& group,
                    std::vector<int>* indices, int* skipped);
+
+// Fits method `method` on the samples with the given indices (finite features expected).
+bool fitSamples(const SampleSet& set, int method, const std::vector<int>& indices,
+                const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error);
+
+// Fills pairs, class counts, accuracies (at `threshold`) and AUC of a row from its scores
+// and labels; `indices` are the samples behind them (for the pair count).
+void summarizeRow(const SampleSet& set, const std::vector<int>& indices, double threshold,
+                  EvaluationRow* row);
 
 // Fits method `method` on the samples of `group` (empty = all magnitudes).
 bool fitMethod(const SampleSet& set, int method, const std::string& group,

@@ -11,8 +11,9 @@
 namespace coral_introspection {
 namespace core {
 
-// One line per sample: pair, stamps, offset, dx, dy, dyaw, group, label, then every
-// method's features as <method>/<feature>. Returns false with *error if unwritable.
+// One line per sample: pair, stamps, offset, dx, dy, dyaw, group, label, the data set (only
+// when a sample names one), then every method's features as <method>/<feature> (NaN: no
+// value). Returns false with *error if unwritable. Read back with readSamplesCsv.
 bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string* error);
 
 // classifier: {beta0, beta1, beta2, threshold} -- the nodelet's private parameters

@@ -44,7 +44,9 @@ struct Counters {
   uint64_t pairs = 0, valid_pairs = 0, misaligned = 0;
   uint64_t too_close = 0, gap_resets = 0, time_resets = 0, duplicate_stamps = 0;
   uint64_t doppler_checks = 0, doppler_inconsistent = 0;
-  double coral_seconds = 0.0;  // [s] summed CorAl wall time over pairs
+  double coral_seconds = 0.0;  // [s] summed CorAl wall time at the pairs' poses
+  // CorAl evaluations: 1 per pair, plus 2 per tolerance axis with the relative check.
+  uint64_t coral_evaluations = 0;
 };
 
 struct DopplerReport {
@@ -53,15 +55,17 @@ struct DopplerReport {
   std::size_t num_points = 0;                         // points with a radial velocity
 };
 
-// CorAl + classification of one pair (the result of judgePair).
+// CorAl + verdict of one pair (the result of judgePair).
 struct PairJudgement {
-  core::CoralResult coral;
-  core::Verdict verdict;  // meaningful when coral.valid
-  std::string reason;     // why there is no verdict (empty when coral.valid)
-  core::Scan ref, cur;    // the pair in the reference sensor frame (ref.origin = 0)
+  // verdict.coral: CorAl at the pose; verdict.classifier / .relative: the opinions behind
+  // verdict.aligned (meaningful when verdict.valid).
+  core::AlignmentVerdict verdict;
+  std::string reason;   // why there is no verdict (empty when verdict.valid)
+  core::Scan ref, cur;  // the pair in the reference sensor frame (ref.origin = 0)
 };
 
-// CorAl of `cur` moved into `ref`'s sensor frame by T_ref_cur, then the classifier.
+// CorAl of `cur` moved into `ref`'s sensor frame by T_ref_cur, then the verdict at the
+// tolerance (core::decideAlignment: classifier, relative check or both).
 // Both scans in their own sensor frames (origin 0). Computing in the reference frame (not
 // the fixed frame) keeps coordinates small and is exactly what training does.
 PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
@@ -82,7 +86,7 @@ struct Report {
   core::RadarFeatures features;  // with keep_features: this scan as de-skewed now
   std::optional<DopplerReport> doppler;
   Counters counters;  // totals after this scan
-  bool hasVerdict() const { return judged && pair.coral.valid; }
+  bool hasVerdict() const { return judged && pair.verdict.valid; }
 };
 
 struct ProcessOptions {

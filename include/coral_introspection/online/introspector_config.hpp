@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/online/pairing.hpp"
 #include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/doppler.hpp"
@@ -32,7 +32,9 @@ struct DopplerCheckConfig {
 struct IntrospectorConfig {
   PairingConfig pairing;
   core::CoralConfig coral;
-  core::ClassifierConfig classifier;
+  // classifier/ (betas, threshold, method, relative_margin, flat_ratio) and tolerance/: the
+  // one verdict of coral/verdict.hpp, the same as coral_train evaluates.
+  core::VerdictConfig verdict;
   core::DeskewConfig deskew;  // radar scans only (per-point stamps)
   DopplerCheckConfig doppler;
   std::string validate() const;  // empty when valid; names the group (coral/, ...)

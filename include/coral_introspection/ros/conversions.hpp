@@ -16,6 +16,7 @@
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/types.hpp"
+#include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/online/introspector.hpp"
 
 namespace coral_introspection {
@@ -60,6 +61,13 @@ sensor_msgs::PointCloud2 buildQualityCloud(
 // latency left to the caller). verdict is used only when result.valid (else aligned = false,
 // probability = 0).
 AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict& verdict,
+                           const std_msgs::Header& header, const ros::Time& stamp_a,
+                           const ros::Time& stamp_b);
+
+// Verdict message of a pair judged by core::decideAlignment (online::judgePair): CorAl at
+// the pose, the combined verdict of cfg.method, the tolerance it judged, and the relative
+// check's correction hint and flat axes.
+AlignmentQuality toMessage(const core::AlignmentVerdict& verdict, const core::VerdictConfig& cfg,
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b);
 

@@ -26,11 +26,12 @@ class Outputs {
   online::ProcessOptions options(const NodeConfig& cfg, bool is_radar) const;
   // The scan's AlignmentQuality (stamped with the scan, in fixed_frame): the verdict or why
   // there is none (status, reason); with a verdict the quality cloud, with features the
-  // feature cloud (sensor frame), with Doppler its check. Returns the latency [s] written
-  // into the message (now - receipt).
+  // feature cloud (sensor frame), with Doppler its check. `verdict`: the settings it was
+  // judged with (tolerance and method are part of the message). Returns the latency [s]
+  // written into the message (now - receipt).
   double publish(const online::Report& report, uint8_t status, const std_msgs::Header& scan_header,
                  const ros::Time& receipt, const std::string& fixed_frame,
-                 const online::ProcessOptions& options) const;
+                 const online::ProcessOptions& options, const core::VerdictConfig& verdict) const;
   // The AlignmentQuality of a scan the Introspector never saw (refused, dropped).
   double publishNoVerdict(uint8_t status, const std::string& reason,
                           const std_msgs::Header& scan_header, const ros::Time& receipt,

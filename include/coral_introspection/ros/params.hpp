@@ -60,7 +60,7 @@ std::vector<std::string> nodeParameterNames();
 template <class R>
 R toReconfigure(const NodeConfig& c) {
   R r;
-  r.classifier_threshold = c.online.classifier.threshold;
+  r.classifier_threshold = c.online.verdict.classifier.threshold;
   r.coral_radius = c.online.coral.radius;
   r.coral_min_overlap = c.online.coral.min_overlap;
   r.publish_quality_cloud = c.publish_quality_cloud;
@@ -69,7 +69,7 @@ R toReconfigure(const NodeConfig& c) {
 }
 template <class R>
 void applyReconfigure(const R& r, NodeConfig* c) {
-  c->online.classifier.threshold = r.classifier_threshold;
+  c->online.verdict.classifier.threshold = r.classifier_threshold;
   c->online.coral.radius = r.coral_radius;
   c->online.coral.min_overlap = r.coral_min_overlap;
   c->publish_quality_cloud = r.publish_quality_cloud;

@@ -1,0 +1,65 @@
+// The alignment verdict of one scan pair at the user's tolerance: CorAl (Eq. 5), then the
+// trained classifier (Eq. 9-10), the training-free relative check (relative_check.hpp) or
+// both. "Misaligned" means off by at least the tolerance. One function for every caller
+// (online introspection, check_alignment, the tests on real pairs).
+#pragma once
+
+#include <string>
+
+#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/relative_check.hpp"
+#include "coral_introspection/coral/tolerance.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+enum class VerdictMethod {
+  kClassifier,  // logistic regression on (H_joint, H_sep): 1 CorAl evaluation
+  kRelative,    // Q against Q one tolerance away: 1 + 2 x axes evaluations, no training
+  kBoth,        // aligned only when both say aligned (same cost as kRelative)
+};
+const char* verdictMethodName(VerdictMethod m);  // "classifier", "relative", "both"
+bool parseVerdictMethod(const std::string& name, VerdictMethod* m);
+
+struct VerdictConfig {
+  VerdictMethod method = VerdictMethod::kClassifier;
+  ClassifierConfig classifier;  // trained for `tolerance` (coral_train)
+  ToleranceConfig tolerance;
+  RelativeCheckConfig relative;
+  std::string validate() const;  // empty when valid
+};
+
+struct AlignmentVerdict {
+  CoralResult coral;             // at the given pose
+  Verdict classifier;            // Eq. 9-10; meaningful when coral.valid
+  RelativeCheckResult relative;  // filled by kRelative / kBoth
+  bool valid = false;            // a verdict was reached
+  bool aligned = false;          // not misaligned by the tolerance or more
+  // Classifier p (Eq. 9); relative: relativeProbability(); both: the smaller of the two.
+  double probability = 0.0;
+  std::string reason;  // why there is no verdict (empty when valid)
+};
+
+// A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *
+// (margin - score)). Not calibrated; it orders pairs (ROC) and fills `probability`.
+double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConfig& cfg);
+
+// Combines the two opinions as `method` says (used by judgeAlignment and by evaluation).
+void combineVerdict(VerdictMethod method, const Verdict& classifier,
+                    const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
+                    AlignmentVerdict* out);
+
+// The verdict once CorAl at the pose is known: v->coral = computeCoral(a, b moved by T_a_b)
+// (the caller may have asked for per-point entropies); fills the rest of *v, running the
+// relative check's neighbour evaluations (with `coral`) when cfg.method needs them.
+void decideAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
+                     const CoralConfig& coral, const VerdictConfig& cfg, AlignmentVerdict* v);
+
+// CorAl of b (its own sensor frame) moved into a's frame by T_a_b, then decideAlignment.
+// Preconditions: coral.validate() and cfg.validate() are empty. Never throws.
+AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
+                                const CoralConfig& coral, const VerdictConfig& cfg);
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,96 @@
+#include "coral_introspection/coral/verdict.hpp"
+
+#include <algorithm>
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+const char* verdictMethodName(VerdictMethod m) {
+  switch (m) {
+    case VerdictMethod::kRelative:
+      return "relative";
+    case VerdictMethod::kBoth:
+      return "both";
+    default:
+      return "classifier";
+  }
+}
+
+bool parseVerdictMethod(const std::string& name, VerdictMethod* m) {
+  for (VerdictMethod v :
+       {VerdictMethod::kClassifier, VerdictMethod::kRelative, VerdictMethod::kBoth})
+    if (name == verdictMethodName(v)) {
+      *m = v;
+      return true;
+    }
+  return false;
+}
+
+std::string VerdictConfig::validate() const {
+  return Problems()
+      .nested("classifier", classifier.validate())
+      .nested("tolerance", tolerance.validate())
+      .nested("relative", relative.validate())
+      .str();
+}
+
+double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConfig& cfg) {
+  return r.valid ? sigmoid(10.0 * (cfg.margin - r.score)) : 0.0;
+}
+
+void combineVerdict(VerdictMethod method, const Verdict& classifier,
+                    const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
+                    AlignmentVerdict* out) {
+  const bool rel_needed = method != VerdictMethod::kClassifier;
+  if (rel_needed && !relative.valid) {
+    out->valid = out->aligned = false;
+    out->probability = 0.0;
+    out->reason = "relative check without a valid Q at the tolerance neighbours";
+    return;
+  }
+  const double p_rel = relativeProbability(relative, cfg);
+  out->valid = true;
+  out->reason.clear();
+  switch (method) {
+    case VerdictMethod::kClassifier:
+      out->probability = classifier.probability;
+      out->aligned = classifier.aligned;
+      break;
+    case VerdictMethod::kRelative:
+      out->probability = p_rel;
+      out->aligned = !relative.misaligned;
+      break;
+    case VerdictMethod::kBoth:
+      out->probability = std::min(classifier.probability, p_rel);
+      out->aligned = classifier.aligned && !relative.misaligned;
+      break;
+  }
+}
+
+void decideAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
+                     const CoralConfig& coral, const VerdictConfig& cfg, AlignmentVerdict* v) {
+  v->relative = RelativeCheckResult();
+  if (!v->coral.valid) {
+    v->valid = v->aligned = false;
+    v->probability = 0.0;
+    v->reason = "CorAl has no valid result (overlap " + std::to_string(v->coral.overlap) + ")";
+    return;
+  }
+  v->classifier = classify(cfg.classifier, v->coral.h_joint, v->coral.h_sep);  // Eq. 9-10
+  if (cfg.method != VerdictMethod::kClassifier)
+    v->relative = relativeCheck(a, b, T_a_b, v->coral, coral, cfg.tolerance, cfg.relative);
+  combineVerdict(cfg.method, v->classifier, v->relative, cfg.relative, v);
+}
+
+AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
+                                const CoralConfig& coral, const VerdictConfig& cfg) {
+  AlignmentVerdict v;
+  v.coral = computeCoral(a, transformScan(b, T_a_b), coral);
+  decideAlignment(a, b, T_a_b, coral, cfg, &v);
+  return v;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

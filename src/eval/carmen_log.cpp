@@ -1,0 +1,167 @@
+#include "coral_introspection/eval/carmen_log.hpp"
+
+#include <bzlib.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+std::string LaserGeometry::validate() const {
+  return Problems()
+      .require(angle_increment > 0.0, "angle_increment", "> 0 rad", angle_increment)
+      .require(min_range >= 0.0 && min_range < max_range, "min_range", "in [0, max_range) m",
+               min_range)
+      .str();
+}
+
+namespace {
+
+// Whole file as text; .bz2 files are decompressed (every concatenated stream).
+bool readText(const std::string& path, std::string* text, std::string* error) {
+  text->clear();
+  const bool bz2 = path.size() > 4 && path.compare(path.size() - 4, 4, ".bz2") == 0;
+  if (!bz2) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) return fail(error, "cannot open " + path);
+    std::ostringstream s;
+    s << f.rdbuf();
+    *text = s.str();
+    return true;
+  }
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) return fail(error, "cannot open " + path);
+  std::vector<char> unused;
+  char buf[1 << 16];
+  while (true) {
+    int err = BZ_OK;
+    BZFILE* bz =
+        BZ2_bzReadOpen(&err, f.get(), 0, 0, unused.data(), static_cast<int>(unused.size()));
+    if (err != BZ_OK) return fail(error, path + ": not a bzip2 file");
+    while (err == BZ_OK) {
+      const int n = BZ2_bzRead(&err, bz, buf, sizeof(buf));
+      if (err == BZ_OK || err == BZ_STREAM_END) text->append(buf, n);
+    }
+    if (err != BZ_STREAM_END) {
+      BZ2_bzReadClose(&err, bz);
+      return fail(error, path + ": corrupt bzip2 data");
+    }
+    void* rest = nullptr;
+    int n_rest = 0;
+    BZ2_bzReadGetUnused(&err, bz, &rest, &n_rest);
+    unused.assign(static_cast<char*>(rest), static_cast<char*>(rest) + n_rest);
+    BZ2_bzReadClose(&err, bz);
+    // Another stream follows when bytes are left over or the file is not at its end.
+    if (unused.empty()) {
+      const int c = std::fgetc(f.get());
+      if (c == EOF) return true;
+      std::ungetc(c, f.get());
+    }
+  }
+}
+
+}  // namespace
+
+bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
+                   std::string* error) {
+  std::string text;
+  if (!readText(path, &text, error)) return false;
+  scans->clear();
+  std::istringstream in(text);
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.rfind("FLASER ", 0) != 0) continue;
+    // FLASER num_readings [ranges] x y theta odom_x odom_y odom_theta ipc_timestamp host ...
+    std::istringstream ls(line.substr(7));
+    int count = 0;
+    CarmenLaserScan s;
+    ls >> count;
+    s.ranges.resize(std::max(count, 0));
+    for (double& r : s.ranges) ls >> r;
+    double odom[3];
+    ls >> s.laser_pose.x() >> s.laser_pose.y() >> s.laser_pose.z() >> odom[0] >> odom[1] >>
+        odom[2] >> s.stamp;
+    if (!ls || count <= 0)
+      return fail(error, path + ":" + std::to_string(n) + ": malformed FLASER line");
+    scans->push_back(std::move(s));
+  }
+  return true;
+}
+
+Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
+  Points p;
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i], a = g.start_angle + static_cast<double>(i) * g.angle_increment;
+    if (r >= g.min_range && r < g.max_range) p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+  }
+  return p;
+}
+
+bool readRelations(const std::string& path, std::vector<Relation>* relations, std::string* error) {
+  std::ifstream in(path);
+  if (!in) return fail(error, "cannot open " + path);
+  relations->clear();
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    std::istringstream ls(line);
+    Relation r;
+    double x, y, z, roll, pitch, yaw;
+    if (!(ls >> r.t1 >> r.t2 >> x >> y >> z >> roll >> pitch >> yaw))
+      return fail(error, path + ":" + std::to_string(n) + ": expected t1 t2 x y z roll pitch yaw");
+    r.T_1_2.translation() = Eigen::Vector3d(x, y, z);
+    r.T_1_2.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                        Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                        Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                           .toRotationMatrix();
+    relations->push_back(r);
+  }
+  return true;
+}
+
+bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Relation>& relations,
+                   const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                   std::vector<ScanPair>* pairs, int* unmatched, std::string* error) {
+  if (const std::string e = geometry.validate(); !e.empty()) return fail(error, e);
+  std::map<double, std::size_t> by_stamp;  // stamp -> log index
+  for (std::size_t i = 0; i < log.size(); ++i) by_stamp.emplace(log[i].stamp, i);
+  auto find = [&](double t) -> int {
+    auto it = by_stamp.lower_bound(t - 1e-4);
+    return it != by_stamp.end() && it->first <= t + 1e-4 ? static_cast<int>(it->second) : -1;
+  };
+  std::map<int, int> scan_of;  // log index -> training scan index
+  auto add = [&](int li) {
+    auto [it, fresh] = scan_of.emplace(li, static_cast<int>(scans->size()));
+    if (fresh) {
+      TrainingScan s;
+      s.stamp = log[li].stamp;
+      s.scan.points = laserPoints(log[li], geometry);
+      scans->push_back(std::move(s));
+    }
+    return it->second;
+  };
+  scans->clear();
+  pairs->clear();
+  *unmatched = 0;
+  for (const Relation& r : relations) {
+    const int i1 = find(r.t1), i2 = find(r.t2);
+    if (i1 < 0 || i2 < 0) {
+      ++*unmatched;
+      continue;
+    }
+    const bool fwd = r.t1 <= r.t2;  // the earlier scan becomes a
+    const int a = add(fwd ? i1 : i2), b = add(fwd ? i2 : i1);
+    pairs->push_back({a, b, fwd ? r.T_1_2 : r.T_1_2.inverse()});
+  }
+  return true;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

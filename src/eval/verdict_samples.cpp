@@ -1,0 +1,160 @@
+#include "coral_introspection/eval/verdict_samples.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+const char* const kTranslationGroup = "translation";
+const char* const kRotationGroup = "rotation";
+
+std::string VerdictSampleConfig::validate() const {
+  return Problems()
+      .nested("coral", coral.validate())
+      .nested("tolerance", tolerance.validate())
+      .require(threads >= 0, "threads", ">= 0", threads)
+      .require(shard_count >= 1, "shard_count", ">= 1", shard_count)
+      .require(shard_index >= 0 && shard_index < shard_count, "shard_index", "in [0, shard_count)",
+               shard_index)
+      .str();
+}
+
+std::vector<MethodSpec> verdictMethods(int dimension) {
+  MethodSpec rel{"Relative", {"Q"}};
+  for (const ToleranceOffset& o : toleranceOffsets(ToleranceConfig(), dimension))
+    rel.feature_names.push_back("Q_" + o.name);
+  return {{"CorAl", {"H_joint", "H_sep"}}, rel};
+}
+
+namespace {
+
+// CorAl of one pair at many offsets Delta (b's frame), each computed once: neighbours of
+// neighbouring samples coincide (x+ then x- is the aligned pose).
+class PairEvaluator {
+ public:
+  PairEvaluator(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b, const CoralConfig& c)
+      : a_(a), b_(b), T_a_b_(T_a_b), cfg_(c) {
+    cfg_.per_point = false;
+  }
+  // {H_joint, H_sep, Q}; NaN without a valid CorAl result.
+  const std::array<double, 3>& at(const Eigen::Isometry3d& delta) {
+    std::array<long long, 12> key;  // Delta rounded (1 um, 1e-9 of the rotation entries)
+    for (int i = 0; i < 3; ++i) {
+      key[i] = std::llround(delta.translation()[i] * 1e6);
+      for (int j = 0; j < 3; ++j) key[3 + 3 * i + j] = std::llround(delta.linear()(i, j) * 1e9);
+    }
+    auto it = cache_.find(key);
+    if (it != cache_.end()) return it->second;
+    const CoralResult r = computeCoral(a_, transformScan(b_, T_a_b_ * delta), cfg_);
+    ++cost_.evaluations;
+    cost_.seconds += r.seconds;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::array<double, 3> v = {nan, nan, nan};
+    if (r.valid) v = {r.h_joint, r.h_sep, r.quality};
+    return cache_.emplace(key, v).first->second;
+  }
+  const CoralCost& cost() const { return cost_; }
+
+ private:
+  const Scan& a_;
+  const Scan& b_;
+  Eigen::Isometry3d T_a_b_;
+  CoralConfig cfg_;
+  CoralCost cost_;
+  std::map<std::array<long long, 12>, std::array<double, 3>> cache_;
+};
+
+std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
+                                const std::vector<TrainingScan>& scans, const ScanPair& pr,
+                                const std::vector<ToleranceOffset>& offsets,
+                                const CoralConfig& coral, CoralCost* cost) {
+  PairEvaluator eval(scans[pr.a].scan, scans[pr.b].scan, pr.T_a_b, coral);
+  std::vector<Sample> out;
+  for (int s = -1; s < static_cast<int>(offsets.size()); ++s) {  // -1: the aligned sample
+    Sample x;
+    x.pair = pair_index;
+    x.dataset = dataset;
+    x.stamp_a = scans[pr.a].stamp;
+    x.stamp_b = scans[pr.b].stamp;
+    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+    if (s >= 0) {
+      const ToleranceOffset& o = offsets[s];
+      delta = o.delta;
+      x.offset = o.name;
+      x.group = isRotation(o.axis) ? kRotationGroup : kTranslationGroup;
+      x.label = 0;
+      x.dx = delta.translation().x();
+      x.dy = delta.translation().y();
+      x.dyaw = std::atan2(delta.linear()(1, 0), delta.linear()(0, 0));
+    }
+    const std::array<double, 3> c = eval.at(delta);
+    x.features = {{c[0], c[1]}, {c[2]}};
+    for (const ToleranceOffset& o : offsets) x.features[1].push_back(eval.at(delta * o.delta)[2]);
+    out.push_back(std::move(x));
+  }
+  cost->evaluations += eval.cost().evaluations;
+  cost->seconds += eval.cost().seconds;
+  return out;
+}
+
+}  // namespace
+
+bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingScan>& scans,
+                         const std::vector<ScanPair>& pairs, const VerdictSampleConfig& cfg,
+                         const Progress& progress, SampleSet* set, std::string* error,
+                         CoralCost* cost) {
+  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+  std::vector<int> mine;  // pair indices of this shard
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const ScanPair& p = pairs[i];
+    if (p.a < 0 || p.b < 0 || p.a >= static_cast<int>(scans.size()) ||
+        p.b >= static_cast<int>(scans.size()))
+      return fail(error, "pair " + std::to_string(i) + " refers to a missing scan");
+    if (static_cast<int>(i % cfg.shard_count) == cfg.shard_index)
+      mine.push_back(static_cast<int>(i));
+  }
+  const std::vector<ToleranceOffset> offsets = toleranceOffsets(cfg.tolerance, cfg.coral.dimension);
+  std::vector<std::vector<Sample>> per_pair(mine.size());
+  std::vector<CoralCost> costs(mine.size());
+  std::atomic<std::size_t> next{0};
+  std::size_t done = 0;
+  std::mutex progress_mutex;
+  auto worker = [&] {
+    for (std::size_t k; (k = next++) < mine.size();) {
+      per_pair[k] =
+          pairSamples(dataset, mine[k], scans, pairs[mine[k]], offsets, cfg.coral, &costs[k]);
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      if (progress) progress(++done, mine.size());
+    }
+  };
+  unsigned n = cfg.threads > 0 ? cfg.threads : std::max(1u, std::thread::hardware_concurrency());
+  n = std::min<unsigned>(n, std::max<std::size_t>(1, mine.size()));
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < n; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+
+  for (const CoralCost& c : costs)
+    if (cost) {
+      cost->evaluations += c.evaluations;
+      cost->seconds += c.seconds;
+    }
+  set->methods = verdictMethods(cfg.coral.dimension);
+  set->groups = {kTranslationGroup, kRotationGroup};
+  set->samples.clear();
+  for (std::vector<Sample>& v : per_pair)
+    for (Sample& s : v) set->samples.push_back(std::move(s));
+  return true;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

@@ -1,0 +1,182 @@
+// Tolerance offsets, the relative check's decision on known Q landscapes, and the full
+// relative check / verdict on a ray-cast scene with induced misalignments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "coral_introspection/coral/verdict.hpp"
+#include "coral_introspection/eval/synthetic.hpp"
+
+using namespace coral_introspection::core;
+
+TEST(Tolerance, OffsetsPerDimensionWithSizesAndNames) {
+  ToleranceConfig tol;
+  tol.translation = 0.4;
+  tol.rotation_deg = 3.0;
+  const std::vector<ToleranceOffset> o2 = toleranceOffsets(tol, 2);
+  ASSERT_EQ(o2.size(), 6u);
+  const char* names[] = {"x+", "x-", "y+", "y-", "yaw+", "yaw-"};
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(o2[i].name, names[i]);
+  EXPECT_TRUE(o2[1].delta.translation().isApprox(Eigen::Vector3d(-0.4, 0, 0)));
+  EXPECT_TRUE(o2[1].delta.linear().isIdentity());
+  EXPECT_NEAR(std::atan2(o2[4].delta.linear()(1, 0), o2[4].delta.linear()(0, 0)), 3.0 * M_PI / 180,
+              1e-12);
+  EXPECT_TRUE(o2[4].delta.translation().isZero());
+  const std::vector<ToleranceOffset> o3 = toleranceOffsets(tol, 3);
+  ASSERT_EQ(o3.size(), 12u);
+  EXPECT_EQ(o3[4].name, "z+");
+  EXPECT_NEAR(o3[4].delta.translation().z(), 0.4, 1e-12);
+  EXPECT_EQ(o3[6].name, "roll+");  // about x: y goes to z
+  EXPECT_NEAR((o3[6].delta.linear() * Eigen::Vector3d::UnitY()).z(), std::sin(3.0 * M_PI / 180),
+              1e-12);
+  EXPECT_EQ(ToleranceConfig::forSensor(true, 2).translation, 0.5);
+  EXPECT_EQ(ToleranceConfig::forSensor(false, 2).rotation_deg, 5.0);
+  tol.translation = 0.0;
+  EXPECT_NE(tol.validate().find("translation"), std::string::npos);
+}
+
+namespace {
+// Q of a quadratic bowl c_x dx^2 + c_y dy^2 + c_yaw dyaw^2 (tolerance units) around `truth`,
+// seen from a pose at `at`: the neighbours are at + each offset.
+std::vector<double> bowl(const Eigen::Vector3d& at, const Eigen::Vector3d& c,
+                         const std::vector<ToleranceOffset>& offsets, double* q0) {
+  auto q = [&](const Eigen::Vector3d& d) { return 0.2 + c.dot(d.cwiseAbs2()); };
+  *q0 = q(at);
+  std::vector<double> out;
+  for (const ToleranceOffset& o : offsets) {
+    Eigen::Vector3d d = at;
+    d[o.axis == Axis::kYaw ? 2 : static_cast<int>(o.axis)] += o.sign;
+    out.push_back(q(d));
+  }
+  return out;
+}
+}  // namespace
+
+TEST(RelativeCheck, DecisionOnAKnownBowl) {
+  const std::vector<ToleranceOffset> off = toleranceOffsets(ToleranceConfig(), 2);
+  RelativeCheckConfig cfg;
+  double q0 = 0.0;
+  // At the minimum every neighbour is higher (by c_k): aligned, no hint, s_k = -1 each.
+  const Eigen::Vector3d c(1.0, 0.5, 0.8);
+  RelativeCheckResult r = decideRelative(q0, off, bowl({0, 0, 0}, c, off, &q0), cfg);
+  ASSERT_TRUE(r.valid);
+  EXPECT_FALSE(r.misaligned);
+  EXPECT_TRUE(r.hint.name.empty());
+  EXPECT_NEAR(r.scale, 1.0, 1e-12);
+  EXPECT_NEAR(r.score, -1.0, 1e-12);
+  EXPECT_NEAR(r.axes[1].sensitivity, 0.5, 1e-12);
+  EXPECT_TRUE(r.flat_axes.empty());
+  // One tolerance off along +x: the step x- reaches the truth (Q drops by D = c_x = 1, the
+  // step x+ raises it by U = 3): s_x = 2D / (D + U) = 0.5.
+  r = decideRelative(q0, off, bowl({1, 0, 0}, c, off, &q0), cfg);
+  EXPECT_TRUE(r.misaligned);
+  EXPECT_EQ(r.hint.name, "x-");
+  EXPECT_NEAR(r.q, 1.2, 1e-12);
+  EXPECT_NEAR(r.scale, 2.0, 1e-12);
+  EXPECT_NEAR(r.score, 0.5, 1e-12);
+  EXPECT_NEAR(r.axes[1].score, -1.0, 1e-12);
+  // Off along yaw the other way round.
+  r = decideRelative(q0, off, bowl({0, 0, -1}, c, off, &q0), cfg);
+  EXPECT_TRUE(r.misaligned);
+  EXPECT_EQ(r.hint.name, "yaw+");
+  // A corridor: Q barely changes along y. Without noise the slope still shows (s_y = 0.5),
+  // and y is reported flat: on real data such an axis decides unreliably.
+  const Eigen::Vector3d corridor(1.0, 0.001, 0.8);
+  r = decideRelative(q0, off, bowl({0, 1, 0}, corridor, off, &q0), cfg);
+  EXPECT_TRUE(r.misaligned);
+  EXPECT_EQ(r.hint.name, "y-");
+  ASSERT_EQ(r.flat_axes.size(), 1u);
+  EXPECT_EQ(r.flat_axes[0], Axis::kY);
+  // A larger margin tolerates a smaller asymmetry: s_x = 0.5 passes a margin of 0.6.
+  cfg.margin = 0.6;
+  EXPECT_FALSE(decideRelative(q0, off, bowl({1, 0, 0}, c, off, &q0), cfg).misaligned);
+  cfg.margin = 0.2;
+  // Missing neighbours: the axis with values still decides; none at all is invalid.
+  std::vector<double> q = bowl({1, 0, 0}, c, off, &q0);
+  q[2] = q[3] = std::nan("");
+  r = decideRelative(q0, off, q, cfg);
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(r.axes[1].valid);
+  EXPECT_TRUE(r.misaligned);
+  r = decideRelative(q0, off, std::vector<double>(6, std::nan("")), cfg);
+  EXPECT_FALSE(r.valid);
+  EXPECT_FALSE(r.misaligned);
+}
+
+namespace {
+struct Pair {
+  Scan a, b;  // a in the world frame (= a's frame), b in its own sensor frame
+  Eigen::Isometry3d T_a_b;
+};
+Pair yardPair(int rings) {
+  std::mt19937 rng(7);
+  const SyntheticScene scene = SyntheticScene::structuredYard();
+  LidarModel lidar;
+  lidar.rings = rings;
+  if (rings == 1) lidar.v_min_deg = lidar.v_max_deg = 0.0;
+  Pair p;
+  p.T_a_b = se2(0.6, 0.2, 0.04);
+  p.a.points = simulateScan(scene, Eigen::Isometry3d::Identity(), lidar, rng);
+  p.b.points = simulateScan(scene, p.T_a_b, lidar, rng);
+  return p;
+}
+CoralConfig planarConfig() {
+  CoralConfig c;
+  c.dimension = 2;
+  c.radius = 0.5;
+  c.epsilon = 1e-4;
+  return c;
+}
+}  // namespace
+
+TEST(RelativeCheck, PlanarScanPairAtTruthAndOneToleranceOff) {
+  const Pair p = yardPair(1);
+  const CoralConfig coral = planarConfig();
+  VerdictConfig v;
+  v.method = VerdictMethod::kRelative;
+  v.tolerance = ToleranceConfig::lidar2d();
+  AlignmentVerdict at_truth = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);
+  ASSERT_TRUE(at_truth.valid) << at_truth.reason;
+  EXPECT_TRUE(at_truth.aligned) << "score " << at_truth.relative.score;
+  EXPECT_EQ(at_truth.relative.coral_evaluations, 6);
+  EXPECT_GT(at_truth.probability, 0.5);
+  for (const ToleranceOffset& o : toleranceOffsets(v.tolerance, 2)) {
+    const AlignmentVerdict off = judgeAlignment(p.a, p.b, p.T_a_b * o.delta, coral, v);
+    ASSERT_TRUE(off.valid) << o.name;
+    EXPECT_FALSE(off.aligned) << o.name << " score " << off.relative.score;
+    std::string back = o.name;
+    back.back() = back.back() == '+' ? '-' : '+';
+    EXPECT_EQ(off.relative.hint.name, back) << o.name;
+    EXPECT_LT(off.probability, 0.5) << o.name;
+  }
+}
+
+TEST(Verdict, MethodsCombineClassifierAndRelativeCheck) {
+  const Pair p = yardPair(1);
+  const CoralConfig coral = planarConfig();
+  VerdictConfig v;
+  v.tolerance = ToleranceConfig::lidar2d();
+  v.classifier.beta0 = 100.0;  // a classifier that calls everything aligned
+  v.classifier.beta1 = v.classifier.beta2 = 0.0;
+  const Eigen::Isometry3d off = p.T_a_b * se2(0.3, 0.0, 0.0);
+  v.method = VerdictMethod::kClassifier;
+  AlignmentVerdict r = judgeAlignment(p.a, p.b, off, coral, v);
+  EXPECT_TRUE(r.aligned);
+  EXPECT_FALSE(r.relative.valid);  // not computed for the classifier alone
+  v.method = VerdictMethod::kBoth;
+  r = judgeAlignment(p.a, p.b, off, coral, v);
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(r.aligned);  // the relative check vetoes
+  EXPECT_NEAR(r.probability, relativeProbability(r.relative, v.relative), 1e-12);
+  VerdictMethod m;
+  EXPECT_TRUE(parseVerdictMethod("both", &m));
+  EXPECT_EQ(m, VerdictMethod::kBoth);
+  EXPECT_FALSE(parseVerdictMethod("Both", &m));
+  // No overlap: no verdict, and the neighbours are not evaluated.
+  r = judgeAlignment(p.a, p.b, se2(500.0, 0.0, 0.0), coral, v);
+  EXPECT_FALSE(r.valid);
+  EXPECT_FALSE(r.aligned);
+  EXPECT_EQ(r.relative.coral_evaluations, 0);
+  EXPECT_FALSE(r.reason.empty());
+}

@@ -1,0 +1,182 @@
+// Data set readers: CARMEN logs (+ bzip2) and relations, lidar keyframe sequences, cloud
+// lists; on the shared real data where present (their stated conventions are checked by
+// nearest-neighbour distances with the ground truth against the identity).
+#include <gtest/gtest.h>
+
+#include <bzlib.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+#include "coral_introspection/eval/pair_datasets.hpp"
+#include "support/test_data.hpp"
+
+using namespace coral_introspection::core;
+
+namespace {
+
+// Median distance from b's points (moved by T_a_b) to their nearest point of a (brute force).
+double medianNN(const Points& a, const Points& b, const Eigen::Isometry3d& T_a_b, int step = 1) {
+  std::vector<double> d;
+  for (std::size_t j = 0; j < b.size(); j += step) {
+    const Vec3 q = T_a_b * b[j];
+    double best = 1e9;
+    for (const Vec3& p : a) best = std::min(best, (p - q).squaredNorm());
+    d.push_back(std::sqrt(best));
+  }
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return d[d.size() / 2];
+}
+
+const char* kLog =
+    "# CARMEN log\n"
+    "ODOM 0 0 0 0 0 0 1.0 host 0.0\n"
+    "FLASER 3 1.0 50.0 2.0 0.1 0.2 0.3 0 0 0 10.5 host 0.1\n"
+    "FLASER 3 1.5 1.5 1.5 0.0 0.0 0.0 0 0 0 11.25 host 0.2\n";
+
+void writeBz2(const std::string& path, const std::string& text, int streams) {
+  FILE* f = std::fopen(path.c_str(), "wb");
+  for (int s = 0; s < streams; ++s) {  // concatenated streams, as pbzip2 writes
+    int err = BZ_OK;
+    BZFILE* bz = BZ2_bzWriteOpen(&err, f, 9, 0, 0);
+    const std::string part = text.substr(
+        s * text.size() / streams, (s + 1) * text.size() / streams - s * text.size() / streams);
+    BZ2_bzWrite(&err, bz, const_cast<char*>(part.data()), static_cast<int>(part.size()));
+    BZ2_bzWriteClose(&err, bz, 0, nullptr, nullptr);
+  }
+  std::fclose(f);
+}
+
+}  // namespace
+
+TEST(CarmenLog, PlainAndBzip2FilesAndBeamGeometry) {
+  const std::string plain = coral_test::tempPath("log", ".clf"), bz = plain + ".bz2";
+  std::ofstream(plain) << kLog;
+  writeBz2(bz, kLog, 2);
+  for (const std::string& path : {plain, bz}) {
+    std::vector<CarmenLaserScan> scans;
+    std::string err;
+    ASSERT_TRUE(readCarmenLog(path, &scans, &err)) << err;
+    ASSERT_EQ(scans.size(), 2u);
+    EXPECT_DOUBLE_EQ(scans[0].stamp, 10.5);
+    EXPECT_DOUBLE_EQ(scans[1].stamp, 11.25);
+    EXPECT_DOUBLE_EQ(scans[0].laser_pose.z(), 0.3);
+    LaserGeometry g;
+    g.angle_increment = M_PI / 2;  // 3 beams: -90, 0, +90 deg
+    const Points p = laserPoints(scans[0], g);
+    ASSERT_EQ(p.size(), 2u);  // the 50 m reading is "no return"
+    EXPECT_TRUE(p[0].isApprox(Vec3(0.0, -1.0, 0.0), 1e-12));
+    EXPECT_TRUE(p[1].isApprox(Vec3(0.0, 2.0, 0.0), 1e-12));
+  }
+  std::ofstream(plain) << "FLASER 180 1.0 2.0\n";
+  std::vector<CarmenLaserScan> scans;
+  std::string err;
+  EXPECT_FALSE(readCarmenLog(plain, &scans, &err));
+  EXPECT_NE(err.find(":1: malformed FLASER"), std::string::npos) << err;
+  std::ofstream(bz) << "not bzip2";
+  EXPECT_FALSE(readCarmenLog(bz, &scans, &err));
+  EXPECT_FALSE(readCarmenLog("/nonexistent.clf", &scans, &err));
+  std::remove(plain.c_str());
+  std::remove(bz.c_str());
+}
+
+TEST(CarmenLog, RelationsBecomePairsWithTheEarlierScanFirst) {
+  std::vector<CarmenLaserScan> log(3);
+  for (int i = 0; i < 3; ++i) {
+    log[i].stamp = 10.0 + i;
+    log[i].ranges = {1.0, 2.0};
+  }
+  std::vector<Relation> rel(3);
+  rel[0].t1 = 10.0;
+  rel[0].t2 = 11.00004;  // within 1e-4 s
+  rel[0].T_1_2.translation().x() = 0.5;
+  rel[1].t1 = 12.0;  // later scan first: pair (11, 12) with the inverse
+  rel[1].t2 = 11.0;
+  rel[1].T_1_2.translation().x() = 0.25;
+  rel[2].t1 = 13.0;  // no such scan
+  rel[2].t2 = 10.0;
+  std::vector<TrainingScan> scans;
+  std::vector<ScanPair> pairs;
+  int unmatched = 0;
+  std::string err;
+  ASSERT_TRUE(relationPairs(log, rel, LaserGeometry(), &scans, &pairs, &unmatched, &err)) << err;
+  EXPECT_EQ(unmatched, 1);
+  ASSERT_EQ(scans.size(), 3u);
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_DOUBLE_EQ(scans[pairs[0].a].stamp, 10.0);
+  EXPECT_DOUBLE_EQ(pairs[0].T_a_b.translation().x(), 0.5);
+  EXPECT_DOUBLE_EQ(scans[pairs[1].a].stamp, 11.0);
+  EXPECT_DOUBLE_EQ(pairs[1].T_a_b.translation().x(), -0.25);
+}
+
+TEST(PairDatasets, SpecParsing) {
+  DatasetSpec s;
+  std::string err;
+  ASSERT_TRUE(parseDatasetSpec("keyframes:../data/hku1_livox_keyframes/", &s, &err)) << err;
+  EXPECT_EQ(s.name, "hku1_livox_keyframes");
+  EXPECT_EQ(s.kind, "keyframes");
+  ASSERT_TRUE(parseDatasetSpec("aces=carmen:/d/aces.clf.bz2", &s, &err));
+  EXPECT_EQ(s.name, "aces");
+  EXPECT_EQ(s.path, "/d/aces.clf.bz2");
+  EXPECT_FALSE(parseDatasetSpec("velodyne:/x", &s, &err));
+  EXPECT_NE(err.find("unknown kind"), std::string::npos);
+  EXPECT_FALSE(parseDatasetSpec("oxford", &s, &err));
+}
+
+TEST(PairDatasets, AcesRelationsMatchTheLogAndAlignTheScans) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  PairDataset d;
+  std::string err;
+  DatasetSpec spec;
+  ASSERT_TRUE(parseDatasetSpec("carmen:" + coral_data + "/aces.clf.bz2", &spec, &err));
+  ASSERT_TRUE(loadPairDataset(spec, DatasetOptions(), nullptr, &d, &err)) << err;
+  EXPECT_EQ(d.pairs.size(), 1279u);  // every relation matched a FLASER stamp
+  EXPECT_EQ(d.summary.find("unmatched"), std::string::npos) << d.summary;
+  std::vector<double> gt, ident;
+  for (std::size_t i = 0; i < d.pairs.size(); i += 40) {
+    const ScanPair& p = d.pairs[i];
+    gt.push_back(medianNN(d.scans[p.a].scan.points, d.scans[p.b].scan.points, p.T_a_b));
+    ident.push_back(medianNN(d.scans[p.a].scan.points, d.scans[p.b].scan.points,
+                             Eigen::Isometry3d::Identity()));
+  }
+  std::sort(gt.begin(), gt.end());
+  std::sort(ident.begin(), ident.end());
+  EXPECT_LT(gt[gt.size() / 2], 0.045);       // README: 0.032 m with the relation
+  EXPECT_GT(ident[ident.size() / 2], 0.08);  // 0.124 m with the identity
+}
+
+TEST(PairDatasets, LivoxKeyframesAndTheLibpointmatcherCloudList) {
+  CORAL_REQUIRE_DATA("hku1_livox_keyframes");
+  DatasetOptions opt;
+  opt.keyframes.max_scans = 12;
+  PairDataset d;
+  std::string err;
+  DatasetSpec spec;
+  ASSERT_TRUE(parseDatasetSpec("keyframes:" + coral_data, &spec, &err));
+  ASSERT_TRUE(loadPairDataset(spec, opt, nullptr, &d, &err)) << err;
+  ASSERT_EQ(d.scans.size(), 12u);
+  ASSERT_EQ(d.pairs.size(), 11u);
+  EXPECT_NEAR(d.scans[1].stamp, 1577836987.398, 1e-3);  // times.txt
+  for (const TrainingScan& s : d.scans) {
+    EXPECT_GT(s.scan.points.size(), 3000u);
+    EXPECT_LT(s.scan.points.size(), 5500u);
+  }
+  int better = 0;  // verify_pairs.txt: the pose beats the identity on every checked pair
+  for (const ScanPair& p : d.pairs)
+    better += medianNN(d.scans[p.a].scan.points, d.scans[p.b].scan.points, p.T_a_b, 7) <
+              medianNN(d.scans[p.a].scan.points, d.scans[p.b].scan.points,
+                       Eigen::Isometry3d::Identity(), 7);
+  EXPECT_EQ(better, 11);
+
+  ASSERT_TRUE(parseDatasetSpec(
+      "car=cloudlist:" + coral_data_root + "/libpointmatcher_car_cloud/carCloudList.csv", &spec,
+      &err));
+  ASSERT_TRUE(loadPairDataset(spec, opt, nullptr, &d, &err)) << err;
+  ASSERT_EQ(d.pairs.size(), 1u);
+  EXPECT_EQ(d.name, "car");
+  EXPECT_NEAR(d.pairs[0].T_a_b.translation().y(), 0.191433, 1e-6);  // 400 is the identity
+  EXPECT_LT(medianNN(d.scans[0].scan.points, d.scans[1].scan.points, d.pairs[0].T_a_b, 50),
+            0.5 * medianNN(d.scans[0].scan.points, d.scans[1].scan.points,
+                           Eigen::Isometry3d::Identity(), 50));
+}
