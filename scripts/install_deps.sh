@@ -21,6 +21,8 @@ PKGS=(
   librosbag-dev python3-rosbag
   librostest-dev python3-rostest python3-rosunit
   python3-numpy
+  # radar-inertial odometry (rio): Ceres solver, YAML configs
+  libceres-dev libyaml-cpp-dev
 )
 
 missing=()

@@ -1,0 +1,30 @@
+// The IMU term r_I(x_i, x_j) of Eq. 2 as a Ceres cost: the preintegration residual
+// (Preintegration::residual) whitened by the inverse square root of its covariance, with
+// analytic Jacobians with respect to (pose_i, speed_bias_i, pose_j, speed_bias_j).
+#pragma once
+
+#include <ceres/sized_cost_function.h>
+
+#include "coral_introspection/rio/preintegration.hpp"
+
+namespace coral_introspection {
+namespace rio {
+
+class ImuFactor : public ceres::SizedCostFunction<15, 7, 9, 7, 9> {
+ public:
+  // pre must outlive the factor. Its covariance is whitened once here.
+  explicit ImuFactor(const Preintegration* pre);
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override;
+
+ private:
+  const Preintegration* pre_;
+  Mat15 sqrt_info_;  // W with W^T W = covariance^-1
+};
+
+// W with W^T W = S^-1 for a symmetric positive (semi-)definite S: W = L^-1 from S = L L^T,
+// eigenvalues floored at min_eigenvalue first so a rank-deficient S stays usable.
+Mat15 inverseSqrt15(const Mat15& S, double min_eigenvalue);
+
+}  // namespace rio
+}  // namespace coral_introspection
