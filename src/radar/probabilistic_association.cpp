@@ -3,6 +3,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 namespace coral_introspection {
@@ -67,9 +68,9 @@ ProbabilisticMatcher::ProbabilisticMatcher(const Points& landmarks,
                                            const ProbabilisticAssociationConfig& cfg)
     : cfg_(cfg), grid_(finiteOnly(landmarks, &original_), cfg.max_search_radius, cfg.dimension) {}
 
-ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma) const {
-  ProbabilisticMatch best;
-  if (!p.allFinite() || !sigma.allFinite()) return best;
+template <class Fn>
+void ProbabilisticMatcher::forEachInGate(const Vec3& p, const Mat3& sigma, Fn&& fn) const {
+  if (!p.allFinite() || !sigma.allFinite()) return;
   Mat3 inv;
   double logdet = 0.0, lambda_max = 0.0;
   regularisedInverse(sigma, cfg_.dimension, cfg_.min_variance, &inv, &logdet, &lambda_max);
@@ -81,15 +82,27 @@ ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma)
     Vec3 r = l - p;
     if (cfg_.dimension == 2) r.z() = 0.0;
     const double m2 = r.dot(inv * r);
-    // Sigma_k is shared by all candidates of p_k, so the highest density (Eq. 14) is the
-    // smallest Mahalanobis distance; the 3-sigma gate removes outliers.
-    if (m2 <= gate2 && m2 < best.mahalanobis2) {
-      best.target = static_cast<int>(original_[idx]);
-      best.mahalanobis2 = m2;
-      best.log_density = log_norm - 0.5 * m2;
-    }
+    if (m2 <= gate2) fn(static_cast<int>(original_[idx]), m2, log_norm - 0.5 * m2);
+  });
+}
+
+ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma) const {
+  ProbabilisticMatch best;
+  // Sigma_k is shared by all candidates of p_k, so the highest density (Eq. 14) is the
+  // smallest Mahalanobis distance; the 3-sigma gate removes outliers.
+  forEachInGate(p, sigma, [&](int target, double m2, double log_density) {
+    if (m2 < best.mahalanobis2) best = {target, m2, log_density};
   });
   return best;
+}
+
+std::vector<ProbabilisticMatch> ProbabilisticMatcher::candidates(const Vec3& p,
+                                                                 const Mat3& sigma) const {
+  std::vector<ProbabilisticMatch> out;
+  forEachInGate(p, sigma, [&](int target, double m2, double log_density) {
+    out.push_back({target, m2, log_density});
+  });
+  return out;
 }
 
 std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
@@ -109,6 +122,44 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
   out.reserve(queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i)
     out.push_back(matcher.match(queries[i], covariances[i]));
+  return out;
+}
+
+std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
+                                                  const Covariances& covariances,
+                                                  const Points& landmarks,
+                                                  const ProbabilisticAssociationConfig& cfg,
+                                                  std::string* error) {
+  std::string msg = cfg.validate();
+  if (msg.empty() && covariances.size() != queries.size())
+    msg = "covariances size differs from queries size";
+  if (!msg.empty()) {
+    if (error) *error = msg;
+    return {};
+  }
+  const ProbabilisticMatcher matcher(landmarks, cfg);
+  struct Pair {
+    double log_density;
+    int query;
+    ProbabilisticMatch match;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    for (const ProbabilisticMatch& m : matcher.candidates(queries[i], covariances[i]))
+      pairs.push_back({m.log_density, static_cast<int>(i), m});
+  // Highest density first; ties broken by query then landmark index (deterministic).
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    if (a.log_density != b.log_density) return a.log_density > b.log_density;
+    if (a.query != b.query) return a.query < b.query;
+    return a.match.target < b.match.target;
+  });
+  std::vector<ProbabilisticMatch> out(queries.size());
+  std::vector<bool> taken(landmarks.size(), false);
+  for (const Pair& p : pairs) {
+    if (out[p.query].target >= 0 || taken[p.match.target]) continue;
+    out[p.query] = p.match;
+    taken[p.match.target] = true;
+  }
   return out;
 }
 

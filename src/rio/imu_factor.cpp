@@ -1,21 +1,7 @@
 #include "coral_introspection/rio/imu_factor.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
-
 namespace coral_introspection {
 namespace rio {
-
-Mat15 inverseSqrt15(const Mat15& S, double min_eigenvalue) {
-  Eigen::SelfAdjointEigenSolver<Mat15> es(0.5 * (S + S.transpose()));
-  const Vec15 lambda = es.eigenvalues().cwiseMax(min_eigenvalue);
-  // W = Lambda^-1/2 U^T: W^T W = U Lambda^-1 U^T.
-  return lambda.cwiseSqrt().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
-}
-
-ImuFactor::ImuFactor(const Preintegration* pre) : pre_(pre) {
-  sqrt_info_ = inverseSqrt15(pre->covariance(), 1e-14);
-}
 
 namespace {
 NavState stateFrom(const double* pose, const double* sb) {
@@ -34,7 +20,8 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
   const NavState sj = stateFrom(parameters[2], parameters[3]);
   const Vec15 r = pre_->residual(si, sj);
   Eigen::Map<Vec15> res(residuals);
-  res = sqrt_info_ * r;
+  const Mat15& W = pre_->sqrtInformation();
+  res = W * r;
   if (jacobians == nullptr) return true;
 
   const double T = pre_->dt();
@@ -54,7 +41,7 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
     A.block<3, 3>(kP, 3) = skew(RiT * (sj.p - si.p - si.v * T + 0.5 * g * T * T));
     A.block<3, 3>(kR, 3) = -Jr_inv * Rj.transpose() * Ri;
     A.block<3, 3>(kV, 3) = skew(RiT * (sj.v - si.v + g * T));
-    Jp = sqrt_info_ * A;
+    Jp = W * A;
   }
   if (jacobians[1]) {  // speed_bias_i: (dv_i, dba_i, dbg_i)
     Eigen::Map<Eigen::Matrix<double, 15, 9, Eigen::RowMajor>> Jsb(jacobians[1]);
@@ -68,14 +55,14 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
     A.block<3, 3>(kV, 6) = -J.block<3, 3>(kV, kBg);
     A.block<3, 3>(kBa, 3) = -Mat3::Identity();
     A.block<3, 3>(kBg, 6) = -Mat3::Identity();
-    Jsb = sqrt_info_ * A;
+    Jsb = W * A;
   }
   if (jacobians[2]) {  // pose_j
     Eigen::Map<Eigen::Matrix<double, 15, 7, Eigen::RowMajor>> Jp(jacobians[2]);
     Eigen::Matrix<double, 15, 7> A = Eigen::Matrix<double, 15, 7>::Zero();
     A.block<3, 3>(kP, 0) = RiT;
     A.block<3, 3>(kR, 3) = Jr_inv;
-    Jp = sqrt_info_ * A;
+    Jp = W * A;
   }
   if (jacobians[3]) {  // speed_bias_j
     Eigen::Map<Eigen::Matrix<double, 15, 9, Eigen::RowMajor>> Jsb(jacobians[3]);
@@ -83,7 +70,7 @@ bool ImuFactor::Evaluate(double const* const* parameters, double* residuals,
     A.block<3, 3>(kV, 0) = RiT;
     A.block<3, 3>(kBa, 3) = Mat3::Identity();
     A.block<3, 3>(kBg, 6) = Mat3::Identity();
-    Jsb = sqrt_info_ * A;
+    Jsb = W * A;
   }
   return true;
 }

@@ -2,6 +2,8 @@
 
 #include "coral_introspection/coral/validation.hpp"
 
+#include <Eigen/Eigenvalues>
+
 namespace coral_introspection {
 namespace rio {
 
@@ -21,7 +23,23 @@ Preintegration::Preintegration(const ImuSample& first, const Vec3& ba, const Vec
   reset();
 }
 
+Mat15 inverseSqrt15(const Mat15& S, double min_eigenvalue) {
+  Eigen::SelfAdjointEigenSolver<Mat15> es(0.5 * (S + S.transpose()));
+  const Vec15 lambda = es.eigenvalues().cwiseMax(min_eigenvalue);
+  // W = Lambda^-1/2 U^T: W^T W = U Lambda^-1 U^T.
+  return lambda.cwiseSqrt().cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+}
+
+const Mat15& Preintegration::sqrtInformation() const {
+  if (!sqrt_info_valid_) {
+    sqrt_info_ = inverseSqrt15(covariance_, 1e-14);
+    sqrt_info_valid_ = true;
+  }
+  return sqrt_info_;
+}
+
 void Preintegration::reset() {
+  sqrt_info_valid_ = false;
   sum_dt_ = 0.0;
   delta_p_.setZero();
   delta_v_.setZero();
@@ -96,6 +114,7 @@ void Preintegration::integrate(const ImuSample& a, const ImuSample& b) {
   const double nbg = noise_.gyro_bias_walk * noise_.gyro_bias_walk / dt;
   q << na, na, na, ng, ng, ng, na, na, na, ng, ng, ng, nba, nba, nba, nbg, nbg, nbg;
 
+  sqrt_info_valid_ = false;
   jacobian_ = F * jacobian_;
   covariance_ = F * covariance_ * F.transpose() + V * q.asDiagonal() * V.transpose();
   delta_p_ = p1;

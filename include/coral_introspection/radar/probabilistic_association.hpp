@@ -41,8 +41,14 @@ class ProbabilisticMatcher {
   ProbabilisticMatcher(const Points& landmarks, const ProbabilisticAssociationConfig& cfg);
   // Eq. 14: argmax over landmarks within the gate of P_k(l); target -1 when none.
   ProbabilisticMatch match(const Vec3& p, const Mat3& sigma) const;
+  // Every landmark within the gate of p (Eq. 13 density each), in no particular order.
+  std::vector<ProbabilisticMatch> candidates(const Vec3& p, const Mat3& sigma) const;
 
  private:
+  // Calls fn(landmark index, m^2, ln P_k) for each landmark inside the gate of p.
+  template <class Fn>
+  void forEachInGate(const Vec3& p, const Mat3& sigma, Fn&& fn) const;
+
   ProbabilisticAssociationConfig cfg_;
   std::vector<uint32_t> original_;  // landmark index of each finite (gridded) landmark
   NeighbourGrid grid_;
@@ -55,6 +61,16 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
                                                        const Points& landmarks,
                                                        const ProbabilisticAssociationConfig& cfg,
                                                        std::string* error);
+
+// One-to-one association (Eq. 13-14 with each landmark used once): all query-landmark
+// pairs within the gate, taken in order of decreasing density; a pair is kept when
+// neither its query nor its landmark is taken yet. One result per query (target -1 when
+// it got none). Empty result and *error on a size mismatch or invalid config.
+std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
+                                                  const Covariances& covariances,
+                                                  const Points& landmarks,
+                                                  const ProbabilisticAssociationConfig& cfg,
+                                                  std::string* error);
 
 }  // namespace core
 }  // namespace coral_introspection

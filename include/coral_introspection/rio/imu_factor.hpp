@@ -12,19 +12,14 @@ namespace rio {
 
 class ImuFactor : public ceres::SizedCostFunction<15, 7, 9, 7, 9> {
  public:
-  // pre must outlive the factor. Its covariance is whitened once here.
-  explicit ImuFactor(const Preintegration* pre);
+  // pre must outlive the factor (its cached square-root information whitens r).
+  explicit ImuFactor(const Preintegration* pre) : pre_(pre) {}
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override;
 
  private:
   const Preintegration* pre_;
-  Mat15 sqrt_info_;  // W with W^T W = covariance^-1
 };
-
-// W with W^T W = S^-1 for a symmetric positive (semi-)definite S: W = L^-1 from S = L L^T,
-// eigenvalues floored at min_eigenvalue first so a rank-deficient S stays usable.
-Mat15 inverseSqrt15(const Mat15& S, double min_eigenvalue);
 
 }  // namespace rio
 }  // namespace coral_introspection

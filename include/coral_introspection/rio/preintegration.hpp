@@ -62,6 +62,8 @@ class Preintegration {
   const Vec3& linearizedBg() const { return bg_; }
   const Mat15& jacobian() const { return jacobian_; }
   const Mat15& covariance() const { return covariance_; }
+  // W with W^T W = covariance^-1 (computed once per integration, cached).
+  const Mat15& sqrtInformation() const;
   double gravity() const { return noise_.gravity; }
   const std::vector<ImuSample>& samples() const { return samples_; }
 
@@ -76,7 +78,13 @@ class Preintegration {
   Vec3 delta_p_, delta_v_;
   Quat delta_q_;
   Mat15 jacobian_, covariance_;
+  mutable Mat15 sqrt_info_;
+  mutable bool sqrt_info_valid_ = false;
 };
+
+// W with W^T W = S^-1 for a symmetric positive (semi-)definite S (eigenvalues floored at
+// min_eigenvalue first so a rank-deficient S stays usable).
+Mat15 inverseSqrt15(const Mat15& S, double min_eigenvalue);
 
 }  // namespace rio
 }  // namespace coral_introspection
