@@ -18,6 +18,9 @@ RioSimConfig RioSimConfig::handheld(unsigned seed) {
   c.extrinsics.R =
       Quat(0.033880048164, -0.918681231167, 0.386946837543, 0.071757109423).toRotationMatrix();
   c.extrinsics.t = Vec3(0.03, 0.03, -0.06);
+  // About as many points per frame as the TI radar gives (40-60).
+  c.num_reflectors = 250;
+  c.max_points = 60;
   return c;
 }
 

@@ -15,6 +15,8 @@ std::string ProbabilisticAssociationConfig::validate() const {
       .require(gate_sigma > 0.0, "gate_sigma", "> 0", gate_sigma)
       .require(max_search_radius > 0.0, "max_search_radius", "> 0 m", max_search_radius)
       .require(min_variance > 0.0, "min_variance", "> 0 m^2", min_variance)
+      .require(ambiguity_ratio >= 0.0 && ambiguity_ratio < 1.0, "ambiguity_ratio", "in [0, 1)",
+               ambiguity_ratio)
       .str();
 }
 
@@ -144,16 +146,32 @@ std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
     ProbabilisticMatch match;
   };
   std::vector<Pair> pairs;
-  for (std::size_t i = 0; i < queries.size(); ++i)
-    for (const ProbabilisticMatch& m : matcher.candidates(queries[i], covariances[i]))
+  std::vector<ProbabilisticMatch> out(queries.size());
+  const double log_ratio = cfg.ambiguity_ratio > 0.0 ? std::log(cfg.ambiguity_ratio) : 0.0;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const std::vector<ProbabilisticMatch> cands = matcher.candidates(queries[i], covariances[i]);
+    if (cfg.ambiguity_ratio > 0.0 && cands.size() >= 2) {
+      double best = -std::numeric_limits<double>::infinity(), second = best;
+      for (const ProbabilisticMatch& m : cands) {
+        if (m.log_density > best)
+          second = best, best = m.log_density;
+        else if (m.log_density > second)
+          second = m.log_density;
+      }
+      if (second - best >= log_ratio) {
+        out[i].ambiguous = true;
+        continue;
+      }
+    }
+    for (const ProbabilisticMatch& m : cands)
       pairs.push_back({m.log_density, static_cast<int>(i), m});
+  }
   // Highest density first; ties broken by query then landmark index (deterministic).
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
     if (a.log_density != b.log_density) return a.log_density > b.log_density;
     if (a.query != b.query) return a.query < b.query;
     return a.match.target < b.match.target;
   });
-  std::vector<ProbabilisticMatch> out(queries.size());
   std::vector<bool> taken(landmarks.size(), false);
   for (const Pair& p : pairs) {
     if (out[p.query].target >= 0 || taken[p.match.target]) continue;

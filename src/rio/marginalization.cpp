@@ -123,21 +123,38 @@ std::unique_ptr<MarginalizationPrior> Marginalizer::marginalize(const std::set<d
     }
   }
 
-  // Schur complement onto the kept blocks, pseudo-inverses with an eigenvalue threshold.
+  // Schur complement onto the kept blocks by block Gaussian elimination, one dropped block
+  // at a time (the result does not depend on the order); each step touches only the rows
+  // coupled to that block, so many landmarks observed by few frames stay cheap.
+  // Pseudo-inverses with an eigenvalue threshold keep unobserved directions harmless.
   const double eps = 1e-8;
-  Eigen::MatrixXd A = H.bottomRightCorner(n, n);
-  Eigen::VectorXd bb = b.tail(n);
-  if (m > 0) {
+  std::vector<char> alive(m + n, 1);
+  for (double* ptr : order) {
+    if (!drop.count(ptr)) continue;
+    const int o = offset[ptr], sz = tangentSize(size_of[ptr]);
+    std::vector<int> nz;
+    for (int i = 0; i < m + n; ++i)
+      if (alive[i] && (i < o || i >= o + sz) && H.block(i, o, 1, sz).cwiseAbs().maxCoeff() > 0.0)
+        nz.push_back(i);
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(
-        0.5 * (H.topLeftCorner(m, m) + H.topLeftCorner(m, m).transpose()));
+        0.5 * (H.block(o, o, sz, sz) + H.block(o, o, sz, sz).transpose()));
     const Eigen::VectorXd inv =
         (es.eigenvalues().array() > eps).select(es.eigenvalues().array().inverse(), 0.0);
-    const Eigen::MatrixXd Hmm_inv =
+    const Eigen::MatrixXd Hdd_inv =
         es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
-    const Eigen::MatrixXd Hrm = H.block(m, 0, n, m);
-    A -= Hrm * Hmm_inv * Hrm.transpose();
-    bb -= Hrm * Hmm_inv * b.head(m);
+    Eigen::MatrixXd C(nz.size(), sz);
+    for (std::size_t k = 0; k < nz.size(); ++k) C.row(k) = H.block(nz[k], o, 1, sz);
+    const Eigen::MatrixXd CHi = C * Hdd_inv;
+    const Eigen::MatrixXd update = CHi * C.transpose();
+    const Eigen::VectorXd bu = CHi * b.segment(o, sz);
+    for (std::size_t a = 0; a < nz.size(); ++a) {
+      b(nz[a]) -= bu(a);
+      for (std::size_t c = 0; c < nz.size(); ++c) H(nz[a], nz[c]) -= update(a, c);
+    }
+    for (int i = o; i < o + sz; ++i) alive[i] = 0;
   }
+  const Eigen::MatrixXd A = H.bottomRightCorner(n, n);
+  const Eigen::VectorXd bb = b.tail(n);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (A + A.transpose()));
   const Eigen::VectorXd S = (es.eigenvalues().array() > eps).select(es.eigenvalues().array(), 0.0);
   const Eigen::VectorXd S_sqrt = S.cwiseSqrt();

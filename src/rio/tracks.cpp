@@ -98,6 +98,20 @@ void Tracks::dropFrame(long frame, const AssociationConfig& cfg) {
   }
 }
 
+void Tracks::retire(const std::vector<long>& ids, const AssociationConfig& cfg) {
+  for (long id : ids) {
+    auto it = tracks_.find(id);
+    if (it == tracks_.end()) continue;
+    if (!cfg.map_landmarks) {
+      tracks_.erase(it);
+      continue;
+    }
+    it->second.obs.clear();
+    it->second.landmark = false;
+    it->second.fixed = true;
+  }
+}
+
 void Tracks::dropObservation(long track, long frame, int min_observations) {
   auto it = tracks_.find(track);
   if (it == tracks_.end()) return;

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <map>
+#include <set>
 
 #include "coral_introspection/rio/estimator.hpp"
 #include "coral_introspection/rio/imu_factor.hpp"
@@ -53,22 +54,20 @@ Estimator::FactorRef Estimator::imuFactor(const WindowFrame& prev, const WindowF
            const_cast<double*>(f.x.pose), const_cast<double*>(f.x.speed_bias)}};
 }
 
+void Estimator::trackFactors(const Track& t, std::vector<FactorRef>* out) const {
+  for (const Observation& o : t.obs)
+    for (const auto& f : window_)
+      if (f->id == o.frame)
+        out->push_back({std::make_shared<PointFactor>(o.p, o.W, cfg_.extrinsics),
+                        loss_,
+                        {f->x.pose, const_cast<double*>(t.position.data())}});
+}
+
 std::vector<Estimator::FactorRef> Estimator::pointFactors(int* count) const {
   std::vector<FactorRef> out;
   if (!cfg_.solver.use_points) return out;
-  std::map<long, const WindowFrame*> frame_of;
-  for (const auto& f : window_) frame_of[f->id] = f.get();
-  for (const auto& [id, t] : tracks_.all()) {
-    if (!t.landmark && !t.fixed) continue;
-    for (const Observation& o : t.obs) {
-      auto it = frame_of.find(o.frame);
-      if (it == frame_of.end()) continue;
-      out.push_back(
-          {std::make_shared<PointFactor>(o.p, o.W, cfg_.extrinsics),
-           loss_,
-           {const_cast<double*>(it->second->x.pose), const_cast<double*>(t.position.data())}});
-    }
-  }
+  for (const auto& [id, t] : tracks_.all())
+    if (t.landmark || t.fixed) trackFactors(t, &out);
   *count = static_cast<int>(out.size());
   return out;
 }
@@ -193,30 +192,44 @@ void Estimator::slide() {
   if (static_cast<int>(window_.size()) <= cfg_.solver.window_size) return;
   WindowFrame& oldest = *window_.front();
   WindowFrame& next = *window_[1];
+  std::vector<long> marginalized_tracks;
   if (cfg_.solver.marginalize) {
-    // Marginalise the oldest state over the factors that touch it: the prior, the IMU
-    // factor to the next frame and its own Doppler / zero-velocity / gyro factors. Its
-    // landmark observations are dropped (not marginalised) so that the prior stays on the
-    // next state only and landmarks remain Schur-eliminable in the next solves.
+    // Marginalise the oldest state over the factors that touch it (the prior, the IMU
+    // factor to the next frame, its Doppler / zero-velocity / gyro factors) together with
+    // the landmarks it observes and all their observations (as VINS-Mono does with the
+    // features of its oldest frame): their information stays in the prior, which then
+    // spans the window frames that saw those landmarks.
     Marginalizer marg;
+    std::set<double*> drop = {oldest.x.pose, oldest.x.speed_bias};
     if (prior_) marg.add(prior_, nullptr, prior_blocks_);
     const FactorRef imu = imuFactor(oldest, next);
     marg.add(imu.cost, imu.loss, imu.blocks);
     for (const FactorRef& r : unaryFactors(oldest)) marg.add(r.cost, r.loss, r.blocks);
+    for (auto& [id, t] : tracks_.all()) {
+      if (!t.landmark || t.fixed || t.obs.empty() || t.obs.front().frame != oldest.id) continue;
+      std::vector<FactorRef> fs;
+      trackFactors(t, &fs);
+      for (const FactorRef& r : fs) marg.add(r.cost, r.loss, r.blocks);
+      drop.insert(t.position.data());
+      marginalized_tracks.push_back(id);
+    }
     std::string err;
-    std::shared_ptr<MarginalizationPrior> p =
-        marg.marginalize({oldest.x.pose, oldest.x.speed_bias}, &err);
+    std::shared_ptr<MarginalizationPrior> p = marg.marginalize(drop, &err);
     if (p) {
       prior_blocks_ = p->blocks();
       prior_ = std::move(p);
-    } else {
-      prior_.reset();
-      prior_blocks_.clear();
+    } else {  // should not happen; fall back to a loose prior on the next state
+      Vec15 sigma;
+      sigma << Vec3::Constant(0.01), Vec3::Constant(0.01), Vec3::Constant(0.1),
+          Vec3::Constant(cfg_.init.sigma_acc_bias), Vec3::Constant(cfg_.init.sigma_gyro_bias);
+      prior_ = std::make_shared<StatePrior>(next.state(), Mat15(sigma.cwiseInverse().asDiagonal()));
+      prior_blocks_ = {next.x.pose, next.x.speed_bias};
     }
   } else {
     prior_.reset();  // the authors' scheme: next solves hold the new oldest state constant
     prior_blocks_.clear();
   }
+  tracks_.retire(marginalized_tracks, cfg_.association);
   tracks_.dropFrame(oldest.id, cfg_.association);
   window_.pop_front();
 }

@@ -1,6 +1,9 @@
 // Writes a simulated radar-inertial sequence with ground truth (eval/rio_simulation.hpp)
 // in the text format of eval/rio_sequence.hpp:
-//   coral_rio_simulate --trajectory handheld|vehicle [--seed N] --output FILE.seq
+//   coral_rio_simulate --trajectory handheld|vehicle [--seed N] [--reflectors N]
+//                      [--noise-scale K] --output FILE.seq
+// (--reflectors overrides the scene's reflector count, --noise-scale multiplies the polar
+// point noise.)
 #include <iostream>
 #include <string>
 
@@ -11,6 +14,8 @@ using namespace coral_introspection;
 int main(int argc, char** argv) {
   std::string trajectory = "handheld", output;
   unsigned seed = 1;
+  int reflectors = -1;
+  double noise_scale = 1.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const std::string v = i + 1 < argc ? argv[i + 1] : "";
@@ -19,6 +24,12 @@ int main(int argc, char** argv) {
       ++i;
     } else if (a == "--seed") {
       seed = static_cast<unsigned>(std::stoul(v));
+      ++i;
+    } else if (a == "--reflectors") {
+      reflectors = std::stoi(v);
+      ++i;
+    } else if (a == "--noise-scale") {
+      noise_scale = std::stod(v);
       ++i;
     } else if (a == "--output") {
       output = v;
@@ -30,11 +41,15 @@ int main(int argc, char** argv) {
   }
   if (output.empty() || (trajectory != "handheld" && trajectory != "vehicle")) {
     std::cerr << "usage: coral_rio_simulate --trajectory handheld|vehicle [--seed N] "
-                 "--output FILE.seq\n";
+                 "[--reflectors N] [--noise-scale K] --output FILE.seq\n";
     return 2;
   }
-  const core::RioSimConfig cfg = trajectory == "handheld" ? core::RioSimConfig::handheld(seed)
-                                                          : core::RioSimConfig::vehicle(seed);
+  core::RioSimConfig cfg = trajectory == "handheld" ? core::RioSimConfig::handheld(seed)
+                                                    : core::RioSimConfig::vehicle(seed);
+  if (reflectors > 0) cfg.num_reflectors = reflectors;
+  cfg.point_noise.sigma_range *= noise_scale;
+  cfg.point_noise.sigma_azimuth *= noise_scale;
+  cfg.point_noise.sigma_elevation *= noise_scale;
   const core::RioSequence seq = core::simulateRio(cfg);
   std::string err;
   if (!core::writeRioSequence(output, seq, &err)) {

@@ -19,13 +19,17 @@ struct ProbabilisticAssociationConfig {
   double gate_sigma = 3.0;         // Mahalanobis gate: sqrt(m^2) <= gate_sigma (3-sigma rule)
   double max_search_radius = 3.0;  // [m] Euclidean cap of the candidate search
   double min_variance = 1e-6;      // [m^2] eigenvalue floor so Sigma_k stays invertible
-  std::string validate() const;    // empty when valid
+  // associateOneToOne only: a query whose second-best candidate has at least this fraction
+  // of the best candidate's density is left unmatched as ambiguous (0 = off, the paper).
+  double ambiguity_ratio = 0.0;
+  std::string validate() const;  // empty when valid
 };
 
 struct ProbabilisticMatch {
   int target = -1;  // index into the landmarks, -1 = none within the gate
   double mahalanobis2 = std::numeric_limits<double>::infinity();  // (l - p)^T Sigma^-1 (l - p)
   double log_density = -std::numeric_limits<double>::infinity();  // ln P_k(l) (Eq. 13)
+  bool ambiguous = false;  // associateOneToOne: rejected by the ambiguity ratio
 };
 
 // ln N(x; mean, sigma) over the first dim coordinates (Eq. 13), eigenvalues floored at
@@ -65,7 +69,9 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
 // One-to-one association (Eq. 13-14 with each landmark used once): all query-landmark
 // pairs within the gate, taken in order of decreasing density; a pair is kept when
 // neither its query nor its landmark is taken yet. One result per query (target -1 when
-// it got none). Empty result and *error on a size mismatch or invalid config.
+// it got none). With cfg.ambiguity_ratio > 0, queries with two similarly dense candidates
+// are left out first (ambiguous = true). Empty result and *error on a size mismatch or
+// invalid config.
 std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
                                                   const Covariances& covariances,
                                                   const Points& landmarks,

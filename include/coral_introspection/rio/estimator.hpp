@@ -92,6 +92,7 @@ class Estimator {
   // Window problem (window_solver.cpp).
   std::vector<FactorRef> unaryFactors(const WindowFrame& f) const;
   FactorRef imuFactor(const WindowFrame& prev, const WindowFrame& f) const;
+  void trackFactors(const Track& t, std::vector<FactorRef>* out) const;
   std::vector<FactorRef> pointFactors(int* count) const;
   bool solve(FrameReport* report);
   std::string checkHealth(const NavState& predicted) const;

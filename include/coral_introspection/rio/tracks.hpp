@@ -49,6 +49,9 @@ class Tracks {
   void promote(int min_observations, const RadarPoseOf& pose_of);
   // Removes every observation of `frame`; see the header comment for what happens next.
   void dropFrame(long frame, const AssociationConfig& cfg);
+  // Landmarks whose information went into the marginalisation prior: they become fixed
+  // map points (AssociationConfig::map_landmarks) or are forgotten.
+  void retire(const std::vector<long>& ids, const AssociationConfig& cfg);
   // Removes one observation (an outlier); a track left with too few stops being a landmark.
   void dropObservation(long track, long frame, int min_observations);
   void clear() { tracks_.clear(); }
