@@ -12,6 +12,7 @@ find_package(Ceres REQUIRED)
 find_library(CORAL_CERES_LIBRARY NAMES libceres.so ceres REQUIRED)
 find_library(CORAL_GLOG_LIBRARY NAMES glog REQUIRED)
 find_package(yaml-cpp REQUIRED)  # RioConfig from YAML (rio/config_yaml.hpp)
+find_package(PCL REQUIRED COMPONENTS common io)
 
 set(CORAL_WARNINGS -Wall -Wextra)
 
@@ -37,7 +38,9 @@ coral_add_library(coral_introspection_rio rio DEPS coral_introspection_radar ${C
                   ${CORAL_GLOG_LIBRARY} yaml-cpp)
 target_include_directories(coral_introspection_rio SYSTEM PUBLIC ${CERES_INCLUDE_DIRS}
                            ${YAML_CPP_INCLUDE_DIR})
-coral_add_library(coral_introspection_eval eval DEPS coral_introspection_rio)
+coral_add_library(coral_introspection_eval eval DEPS coral_introspection_rio ${PCL_LIBRARIES})
+# PCL's PCD reader for eval/cloud_io (tools and tests only; the nodelet does not link it).
+target_include_directories(coral_introspection_eval SYSTEM PUBLIC ${PCL_INCLUDE_DIRS})
 
 set(CORAL_CORE_LIBRARIES coral_introspection_coral coral_introspection_radar
     coral_introspection_online coral_introspection_rio)

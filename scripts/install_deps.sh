@@ -5,8 +5,8 @@
 set -euo pipefail
 
 PKGS=(
-  # toolchain
-  build-essential cmake pkg-config libgtest-dev libeigen3-dev
+  # toolchain; clang-format 14 for scripts/check_format.sh
+  build-essential cmake pkg-config libgtest-dev libeigen3-dev clang-format-14
   # ROS 1 from Debian (Noetic-era, installs into /usr)
   ros-base-dev catkin ros-message-generation ros-message-runtime
   libroscpp-dev rosout rosbash python3-roslaunch python3-rostopic python3-rosservice python3-rosnode
@@ -14,12 +14,11 @@ PKGS=(
   libtf2-dev libtf2-ros-dev libtf2-eigen-dev libtf2-msgs-dev python3-tf2-ros
   libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev libnav-msgs-dev libdiagnostic-msgs-dev
   python3-sensor-msgs python3-geometry-msgs python3-std-msgs python3-nav-msgs python3-diagnostic-msgs
-  libpcl-ros-dev libpcl-conversions-dev libpcl-dev
-  libcv-bridge-dev libopencv-dev python3-cv-bridge
+  libpcl-conversions-dev libpcl-dev libopencv-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev
   librosbag-dev python3-rosbag
-  librostest-dev python3-rostest python3-rosunit
+  librostest-dev python3-rostest python3-rosunit python3-rosparam
   python3-numpy
   # radar-inertial odometry (rio): Ceres solver, YAML configs
   libceres-dev libyaml-cpp-dev

@@ -1,11 +1,33 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds the package and every test, runs all tests (gtest of the
-# core and ROS layer, rostest of the nodelet) through ctest. Exit code != 0 on any failure.
-# Idempotent: installed packages and built objects are reused.
+# Installs what is needed, builds the package and every test, then runs
+#   1. every test through ctest (gtest of the libraries and the ROS layer, rostest of the
+#      nodelet);
+#   2. scripts/check_format.sh: every tracked C++ file formatted by .clang-format;
+#   3. scripts/check_install.sh: `catkin_make install`, then the nodelet launched from the
+#      install space alone answers check_alignment; no eval code in the plugin.
+# All three run even when one fails; a summary line per part at the end. Exit code != 0 on
+# any failure. Idempotent: installed packages and built objects are reused.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 bash "${CORAL_REPO}/scripts/install_deps.sh"
 coral_build tests
-cd "${CORAL_WS}/build/coral_introspection"
+
+results=()
+run() {
+  local name="$1"
+  shift
+  if "$@"; then results+=("PASS  ${name}"); else results+=("FAIL  ${name}"); fi
+}
 # Serial on purpose: every rostest starts its own master on the same port.
-ctest --output-on-failure --timeout 900
+run "ctest (gtest + rostest)" bash -c \
+  "cd '${CORAL_WS}/build/coral_introspection' && ctest --output-on-failure --timeout 900"
+run "clang-format (scripts/check_format.sh)" bash "${CORAL_REPO}/scripts/check_format.sh"
+run "install space (scripts/check_install.sh)" bash "${CORAL_REPO}/scripts/check_install.sh"
+
+echo "=== test summary"
+failed=0
+for r in "${results[@]}"; do
+  echo "  ${r}"
+  [[ "${r}" == FAIL* ]] && failed=1
+done
+exit "${failed}"

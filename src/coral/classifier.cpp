@@ -12,7 +12,10 @@ std::string ClassifierConfig::validate() const {
       .require(std::isfinite(beta0), "beta0", "finite", beta0)
       .require(std::isfinite(beta1), "beta1", "finite", beta1)
       .require(std::isfinite(beta2), "beta2", "finite", beta2)
-      .require(threshold > 0.0 && threshold < 1.0, "threshold", "in (0, 1)", threshold)
+      // [0.01, 0.99], the dynamic_reconfigure range of classifier_threshold (cfg/Coral.cfg):
+      // a threshold within 1 % of 0 or 1 relies on the tails of the logistic model, which
+      // training sets of tens to hundreds of pairs do not calibrate.
+      .require(threshold >= 0.01 && threshold <= 0.99, "threshold", "in [0.01, 0.99]", threshold)
       .str();
 }
 

@@ -12,11 +12,17 @@ namespace coral_introspection {
 namespace core {
 
 std::string CoralConfig::validate() const {
+  // Radii in [0.01, 10] m (also the dynamic_reconfigure range of coral_radius, cfg/Coral.cfg):
+  // below 1 cm no lidar/radar neighbourhood holds min_neighbours points, and the hash grid
+  // (cell = largest radius) would need a cell per point; above 10 m a neighbourhood spans
+  // whole structures and the per-point cost grows with the square/cube of r.
+  auto radiusOk = [](double r) { return r >= 0.01 && r <= 10.0; };
   Problems p;
   p.require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
-      .require(radius > 0.0, "radius", "> 0 m", radius);
+      .require(radiusOk(radius), "radius", "in [0.01, 10] m", radius);
   if (dynamic_radius) {
-    p.require(r_min > 0.0, "r_min", "> 0 m", r_min)
+    p.require(radiusOk(r_min), "r_min", "in [0.01, 10] m", r_min)
+        .require(radiusOk(r_max), "r_max", "in [0.01, 10] m", r_max)
         .require(r_min <= r_max, "r_min", "<= r_max", r_min)
         .require(alpha_deg > 0.0 && alpha_deg < 90.0, "alpha_deg", "in (0, 90) deg", alpha_deg);
   }

@@ -9,11 +9,14 @@ namespace coral_introspection {
 namespace core {
 
 std::string LogisticRegressionConfig::validate() const {
+  // The threshold is copied into the deployed ClassifierConfig: the same range applies.
+  ClassifierConfig deployed;
+  deployed.threshold = threshold;
   return Problems()
       .require(ridge >= 0.0 && std::isfinite(ridge), "ridge", "finite and >= 0", ridge)
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
       .require(tolerance > 0.0, "tolerance", "> 0", tolerance)
-      .require(threshold > 0.0 && threshold < 1.0, "threshold", "in (0, 1)", threshold)
+      .nested("deployed classifier", deployed.validate())
       .str();
 }
 

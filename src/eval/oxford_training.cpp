@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "coral_introspection/radar/motion_compensation.hpp"
+#include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 
 namespace coral_introspection {
@@ -52,33 +52,36 @@ bool loadOxfordTrainingScans(const OxfordDataset& ds, const OxfordTrainingConfig
   if (cfg.max_scans > 0) n = std::min<std::size_t>(n, cfg.max_scans);
   scans->assign(n, TrainingScan());
   T_first_scan->clear();
+  std::vector<RadarFeatures> rip(n), ks(n);
+  std::vector<double> stamps(n);
   for (std::size_t i = 0; i < n; ++i) {
     PolarScan polar;
-    RadarFeatures rip;
     std::string err;
     if (!loadOxfordScan(ds.png_paths[i], &polar, &err) ||
-        !extractRipFeatures(polar, cfg.rip, &rip, &err)) {
+        !extractRipFeatures(polar, cfg.rip, &rip[i], &err)) {
       if (error) *error = ds.png_paths[i] + ": " + err;
       return false;
     }
-    RadarFeatures ks;
     if (cfg.with_cfear)
-      ks = kStrongestPoints(polar, cfg.cfear_k, cfg.cfear_z_min, cfg.rip.min_range,
-                            cfg.rip.max_range);
-    if (cfg.motion_compensation && ds.png_paths.size() >= 2) {
-      const std::size_t j = i == 0 ? 1 : i;
-      const double dt = (ds.stamps_us[j] - ds.stamps_us[j - 1]) * 1e-6;
-      const Twist v = twistFromRelativePose(ds.T_prev_curr[j], dt);
-      compensateMotion(v, polar.stamp, &rip);
-      compensateMotion(v, polar.stamp, &ks);
-    }
-    TrainingScan& s = (*scans)[i];
-    s.stamp = polar.stamp;
-    s.scan.points = std::move(rip.points);
-    s.scan.origin = Vec3::Zero();
-    s.cfear_points = std::move(ks.points);
+      ks[i] = kStrongestPoints(polar, cfg.cfear_k, cfg.cfear_z_min, cfg.rip.min_range,
+                               cfg.rip.max_range);
+    stamps[i] = polar.stamp;
     T_first_scan->push_back(ds.T_first_scan(i));
     if (progress) progress(i + 1, n);
+  }
+  // The online de-skew policy (radar/deskew.hpp) on the ground-truth poses: the features
+  // are made exactly as the Introspector makes them from the same poses.
+  const auto velocities = deskewVelocities(stamps, *T_first_scan);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (cfg.motion_compensation && velocities[i]) {
+      compensateMotion(*velocities[i], stamps[i], &rip[i]);
+      compensateMotion(*velocities[i], stamps[i], &ks[i]);
+    }
+    TrainingScan& s = (*scans)[i];
+    s.stamp = stamps[i];
+    s.scan.points = std::move(rip[i].points);
+    s.scan.origin = Vec3::Zero();
+    s.cfear_points = std::move(ks[i].points);
   }
   return true;
 }

@@ -17,24 +17,6 @@ std::string PairingConfig::validate() const {
   return e.str();
 }
 
-const char* toString(PairAction a) {
-  switch (a) {
-    case PairAction::kFirst:
-      return "first scan";
-    case PairAction::kPair:
-      return "paired";
-    case PairAction::kTooClose:
-      return "too close to the keyframe";
-    case PairAction::kGapReset:
-      return "reference too old";
-    case PairAction::kBackwardsReset:
-      return "time jumped backwards";
-    case PairAction::kDuplicateReset:
-      return "duplicate stamp";
-  }
-  return "?";
-}
-
 PairAction ScanPairing::offer(double stamp, const core::Vec3& position) {
   PairAction a = PairAction::kPair;
   if (!has_reference_) {

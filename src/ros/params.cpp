@@ -90,7 +90,6 @@ class Reader {
     error_ = e.str();
     return false;
   }
-  bool has(const std::string& path) { return find(path) != nullptr; }
 
   // Keys in the given groups that no get() asked for.
   void unknownKeys(const std::vector<std::string>& groups, std::vector<std::string>* out) {
@@ -104,6 +103,10 @@ class Reader {
     }
   }
   const std::string& error() const { return error_; }
+  bool fail(const std::string& message) {
+    error_ = message;
+    return false;
+  }
 
  private:
   bool typeError(const std::string& path, const char* expected) {
@@ -116,32 +119,31 @@ class Reader {
 };
 
 bool readAll(Reader& r, NodeConfig* c) {
+  online::IntrospectorConfig& o = c->online;
   int input = c->input_type == InputType::kPolarImage ? 1 : 0;
-  if (!r.getChoice("input_type", {"pointcloud", "polar_image"}, &input)) return false;
-  c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
-  // Radar features are planar: 2D CorAl unless the user insists.
-  if (c->input_type == InputType::kPolarImage && !r.has("coral/dimension")) c->coral.dimension = 2;
-  int agg = c->coral.aggregation == core::Aggregation::kMedian ? 1 : 0;
+  int agg = o.coral.aggregation == core::Aggregation::kMedian ? 1 : 0;
   int fmt = c->polar_format == PolarFormat::kPlain ? 1 : 0;
   int dir = c->polar.direction == core::AzimuthDirection::kClockwise ? 1 : 0;
+  int seed = static_cast<int>(o.doppler.check.seed);
   const bool ok =
+      r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
       r.get("tf_timeout", &c->tf_timeout) &&
-      r.get("pairing/min_distance", &c->pairing.min_distance) &&
-      r.get("pairing/max_time_gap", &c->pairing.max_time_gap) &&
-      r.get("coral/dimension", &c->coral.dimension) && r.get("coral/radius", &c->coral.radius) &&
-      r.get("coral/dynamic_radius", &c->coral.dynamic_radius) &&
-      r.get("coral/r_min", &c->coral.r_min) && r.get("coral/r_max", &c->coral.r_max) &&
-      r.get("coral/alpha_deg", &c->coral.alpha_deg) && r.get("coral/epsilon", &c->coral.epsilon) &&
-      r.get("coral/e_reject", &c->coral.e_reject) &&
-      r.get("coral/min_neighbours", &c->coral.min_neighbours) &&
-      r.get("coral/min_neighbours_other", &c->coral.min_neighbours_other) &&
+      r.get("pairing/min_distance", &o.pairing.min_distance) &&
+      r.get("pairing/max_time_gap", &o.pairing.max_time_gap) &&
+      r.get("coral/dimension", &o.coral.dimension) && r.get("coral/radius", &o.coral.radius) &&
+      r.get("coral/dynamic_radius", &o.coral.dynamic_radius) &&
+      r.get("coral/r_min", &o.coral.r_min) && r.get("coral/r_max", &o.coral.r_max) &&
+      r.get("coral/alpha_deg", &o.coral.alpha_deg) && r.get("coral/epsilon", &o.coral.epsilon) &&
+      r.get("coral/e_reject", &o.coral.e_reject) &&
+      r.get("coral/min_neighbours", &o.coral.min_neighbours) &&
+      r.get("coral/min_neighbours_other", &o.coral.min_neighbours_other) &&
       r.getChoice("coral/aggregation", {"mean", "median"}, &agg) &&
-      r.get("coral/min_overlap", &c->coral.min_overlap) &&
-      r.get("classifier/beta0", &c->classifier.beta0) &&
-      r.get("classifier/beta1", &c->classifier.beta1) &&
-      r.get("classifier/beta2", &c->classifier.beta2) &&
-      r.get("classifier/threshold", &c->classifier.threshold) &&
+      r.get("coral/min_overlap", &o.coral.min_overlap) &&
+      r.get("classifier/beta0", &o.classifier.beta0) &&
+      r.get("classifier/beta1", &o.classifier.beta1) &&
+      r.get("classifier/beta2", &o.classifier.beta2) &&
+      r.get("classifier/threshold", &o.classifier.threshold) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&
       r.get("radar/range_resolution", &c->polar.range_resolution) &&
       r.get("radar/first_data_column", &c->polar.first_data_column) &&
@@ -151,53 +153,64 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("radar/scan_period", &c->polar.scan_period) && r.get("rip/k", &c->rip.k) &&
       r.get("rip/z_min", &c->rip.z_min) && r.get("rip/window", &c->rip.window) &&
       r.get("rip/min_range", &c->rip.min_range) && r.get("rip/max_range", &c->rip.max_range) &&
-      r.get("motion_compensation/enabled", &c->motion_compensation) &&
+      r.get("motion_compensation/enabled", &o.deskew.enabled) &&
       r.get("publish/quality_cloud", &c->publish_quality_cloud) &&
       r.get("publish/features", &c->publish_features) &&
-      r.get("doppler/enabled", &c->doppler.enabled) &&
-      r.get("doppler/velocity_field", &c->doppler.velocity_field) &&
-      r.get("doppler/sigma_doppler", &c->doppler.check.sigma_doppler) &&
-      r.get("doppler/ransac_threshold", &c->doppler.check.ransac_threshold) &&
-      r.get("doppler/ransac_iterations", &c->doppler.check.ransac_iterations) &&
-      r.get("doppler/min_inlier_ratio", &c->doppler.check.min_inlier_ratio) &&
-      r.get("doppler/min_points", &c->doppler.check.min_points) &&
-      r.get("doppler/confidence", &c->doppler.check.confidence) &&
+      r.get("doppler/enabled", &o.doppler.enabled) &&
+      r.get("doppler/velocity_field", &c->velocity_field) &&
+      r.get("doppler/sigma_doppler", &o.doppler.check.sigma_doppler) &&
+      r.get("doppler/ransac_threshold", &o.doppler.check.ransac_threshold) &&
+      r.get("doppler/ransac_iterations", &o.doppler.check.ransac_iterations) &&
+      r.get("doppler/seed", &seed) &&
+      r.get("doppler/min_inlier_ratio", &o.doppler.check.min_inlier_ratio) &&
+      r.get("doppler/min_points", &o.doppler.check.min_points) &&
+      r.get("doppler/confidence", &o.doppler.check.confidence) &&
       r.get("doppler/radial_velocity_positive_away",
-            &c->doppler.check.radial_velocity_positive_away) &&
-      r.get("doppler/sigma_reference_velocity", &c->doppler.check.sigma_reference_velocity);
-  c->coral.aggregation = agg == 1 ? core::Aggregation::kMedian : core::Aggregation::kMean;
+            &o.doppler.check.radial_velocity_positive_away) &&
+      r.get("doppler/sigma_reference_velocity", &o.doppler.check.sigma_reference_velocity) &&
+      r.get("doppler/point_covariances", &o.doppler.point_covariances) &&
+      r.get("doppler/sigma_range", &o.doppler.noise.sigma_range) &&
+      r.get("doppler/sigma_azimuth", &o.doppler.noise.sigma_azimuth) &&
+      r.get("doppler/sigma_elevation", &o.doppler.noise.sigma_elevation);
+  c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
+  o.coral.aggregation = agg == 1 ? core::Aggregation::kMedian : core::Aggregation::kMean;
   c->polar_format = fmt == 1 ? PolarFormat::kPlain : PolarFormat::kOxford;
   c->polar.direction =
       dir == 1 ? core::AzimuthDirection::kClockwise : core::AzimuthDirection::kCounterClockwise;
-  return ok;
+  if (!ok) return false;
+  if (seed < 0)
+    return r.fail("parameter ~doppler/seed must be >= 0 (got " + std::to_string(seed) + ")");
+  o.doppler.check.seed = static_cast<unsigned>(seed);
+  return true;
 }
 
 }  // namespace
 
 std::string NodeConfig::validate() const {
   std::ostringstream e;
-  auto add = [&e](const std::string& group, const std::string& msg) {
+  auto add = [&e](const std::string& msg) {
     if (msg.empty()) return;
     if (!e.str().empty()) e << "; ";
-    e << group << msg;
+    e << msg;
   };
-  if (fixed_frame.empty()) add("", "fixed_frame must not be empty");
+  if (fixed_frame.empty()) add("fixed_frame must not be empty");
   if (queue_size < 1 || queue_size > 1000)
-    add("", "queue_size must be in [1, 1000] (got " + std::to_string(queue_size) + ")");
+    add("queue_size must be in [1, 1000] (got " + std::to_string(queue_size) + ")");
   if (!(tf_timeout > 0.0 && tf_timeout <= 60.0))
-    add("", "tf_timeout must be in (0, 60] s (got " + std::to_string(tf_timeout) + ")");
-  add("", pairing.validate());
-  add("~coral/", coral.validate());
-  add("~classifier/", classifier.validate());
+    add("tf_timeout must be in (0, 60] s (got " + std::to_string(tf_timeout) + ")");
+  add(online.validate());
   if (input_type == InputType::kPolarImage) {
-    if (polar_format == PolarFormat::kPlain) add("~radar/", polar.validate());
-    add("~rip/", rip.validate());
+    if (polar_format == PolarFormat::kPlain)
+      add(online::prefixMessages("radar/", polar.validate()));
+    add(online::prefixMessages("rip/", rip.validate()));
+    // Explicit instead of switched silently: 3D entropies of planar (z = 0) features are
+    // undefined, so such a config could never give a verdict.
+    if (online.coral.dimension != 2)
+      add("coral/dimension must be 2 for input_type polar_image (radar features are planar; got " +
+          std::to_string(online.coral.dimension) + ")");
   }
-  if (doppler.enabled) {
-    if (doppler.velocity_field.empty())
-      add("", "doppler/velocity_field must not be empty when doppler/enabled");
-    add("~doppler/", doppler.check.validate());
-  }
+  if (online.doppler.enabled && velocity_field.empty())
+    add("doppler/velocity_field must not be empty when doppler/enabled");
   return e.str();
 }
 

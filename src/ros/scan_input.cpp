@@ -7,26 +7,40 @@
 #include <opencv2/core.hpp>
 #include <sstream>
 
+#include "coral_introspection/coral/validation.hpp"
+
 namespace coral_introspection {
 namespace ros_adapters {
 
-bool cloudToSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg,
-                       SensorScan* out, std::string* error) {
+namespace {
+void setHeader(const std_msgs::Header& h, online::ScanInput* s) {
+  s->stamp = h.stamp.toSec();
+  s->id = h.stamp.toNSec();
+}
+}  // namespace
+
+bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, SensorScan* out,
+                  std::string* error) {
   *out = SensorScan();
-  const bool doppler = cfg.doppler.enabled && hasField(cloud, cfg.doppler.velocity_field);
+  setHeader(cloud.header, &out->scan);
+  const bool doppler = cfg.online.doppler.enabled && hasField(cloud, cfg.velocity_field);
   CloudReadStats stats;
-  if (!cloudToPoints(cloud, &out->features.points, error, &stats,
-                     doppler ? cfg.doppler.velocity_field : std::string(),
-                     doppler ? &out->radial_velocity : nullptr))
+  if (!cloudToPoints(cloud, &out->scan.features.points, error, &stats,
+                     doppler ? cfg.velocity_field : std::string(),
+                     doppler ? &out->scan.radial_velocity : nullptr))
     return false;
   out->dropped_non_finite = stats.non_finite;
+  if (out->scan.features.points.empty())
+    return core::fail(error,
+                      stats.non_finite > 0 ? "only NaN/Inf points" : "empty cloud (0 points)");
   return true;
 }
 
-bool imageToSensorScan(const sensor_msgs::Image& image, const NodeConfig& cfg, SensorScan* out,
-                       std::string* error) {
+bool toSensorScan(const sensor_msgs::Image& image, const NodeConfig& cfg, SensorScan* out,
+                  std::string* error) {
   *out = SensorScan();
-  out->is_radar = true;
+  setHeader(image.header, &out->scan);
+  out->scan.is_radar = true;
   namespace enc = sensor_msgs::image_encodings;
   if (image.encoding != enc::MONO8 && image.encoding != enc::TYPE_8UC1) {
     *error = "polar image encoding must be mono8 (got '" + image.encoding + "')";
@@ -49,31 +63,21 @@ bool imageToSensorScan(const sensor_msgs::Image& image, const NodeConfig& cfg, S
                       ? core::decodeOxfordImage(mat, &scan, error)
                       : core::decodePolarImage(mat, cfg.polar, stamp, &scan, error);
   if (!ok) return false;
-  if (!core::extractRipFeatures(scan, cfg.rip, &out->features, error)) return false;
+  if (!core::extractRipFeatures(scan, cfg.rip, &out->scan.features, error)) return false;
   const double shift = stamp - scan.stamp;  // embedded clock -> header clock
-  for (double& t : out->features.stamps) t += shift;
+  for (double& t : out->scan.features.stamps) t += shift;
+  if (out->scan.features.points.empty())
+    return core::fail(error, "no RIP features (check rip/z_min and the image)");
   return true;
 }
 
-bool twistBetween(const Eigen::Isometry3d& T_fixed_prev, const Eigen::Isometry3d& T_fixed_curr,
-                  double dt, core::Twist* twist) {
-  if (!(dt > 0.0)) return false;
-  *twist = core::twistFromRelativePose(T_fixed_prev.inverse() * T_fixed_curr, dt);  // SE(3) log
-  return true;
-}
-
-core::Twist robustTwist(const std::vector<core::Twist>& recent) {
-  if (recent.empty()) return core::Twist();
-  if (recent.size() < 3) return recent.back();
-  core::Twist out;
-  std::vector<double> v(recent.size());
-  for (int k = 0; k < 6; ++k) {
-    for (std::size_t i = 0; i < recent.size(); ++i)
-      v[i] = k < 3 ? recent[i].linear[k] : recent[i].angular[k - 3];
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    (k < 3 ? out.linear[k] : out.angular[k - 3]) = v[v.size() / 2];
-  }
-  return out;
+online::ScanInput noPoseInput(const std_msgs::Header& header, const std::string& fixed_frame,
+                              const std::string& error) {
+  online::ScanInput s;
+  setHeader(header, &s);
+  s.pose_error = "no transform " + fixed_frame + " <- '" + header.frame_id +
+                 "' at t = " + std::to_string(header.stamp.toSec()) + ": " + error;
+  return s;
 }
 
 }  // namespace ros_adapters

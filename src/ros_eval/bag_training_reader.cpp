@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "coral_introspection/eval/oxford_training.hpp"
+#include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/scan_input.hpp"
 
@@ -77,8 +78,8 @@ bool readScan(const rosbag::MessageInstance& m, const BagTrainingOptions& o, Raw
   *stamp = image->header.stamp;
   out->is_image = true;
   SensorScan ss;
-  if (!imageToSensorScan(*image, o.node, &ss, error)) return false;  // RIP front end
-  out->rip = std::move(ss.features);
+  if (!toSensorScan(*image, o.node, &ss, error)) return false;  // RIP front end
+  out->rip = std::move(ss.scan.features);
   if (o.with_cfear) {
     const cv::Mat mat(static_cast<int>(image->height), static_cast<int>(image->width), CV_8UC1,
                       const_cast<uint8_t*>(image->data.data()), image->step);
@@ -159,17 +160,20 @@ bool loadBagTrainingScans(const std::string& bag_path, const BagTrainingOptions&
 
   scans->clear();
   T_fixed_sensor->clear();
+  // The online de-skew policy (radar/deskew.hpp) on the bag's poses.
+  std::vector<double> stamps;
+  core::Isometries poses;
+  for (const RawScan& r : raw) {
+    stamps.push_back(r.scan.stamp);
+    poses.push_back(r.T_fixed_sensor);
+  }
+  const auto velocities = core::deskewVelocities(stamps, poses);
   for (std::size_t i = 0; i < raw.size(); ++i) {
     RawScan& r = raw[i];
     if (summary->radar_images) {
-      if (o.motion_compensation) {  // velocity of the interval towards this scan (Sec. V-A)
-        const std::size_t j = i == 0 ? 1 : i;
-        core::Twist v;
-        if (twistBetween(raw[j - 1].T_fixed_sensor, raw[j].T_fixed_sensor,
-                         raw[j].scan.stamp - raw[j - 1].scan.stamp, &v)) {
-          core::compensateMotion(v, r.scan.stamp, &r.rip);
-          core::compensateMotion(v, r.kstrong_ref, &r.kstrong);
-        }
+      if (o.motion_compensation && velocities[i]) {
+        core::compensateMotion(*velocities[i], r.scan.stamp, &r.rip);
+        core::compensateMotion(*velocities[i], r.kstrong_ref, &r.kstrong);
       }
       r.scan.scan.points = std::move(r.rip.points);
       r.scan.cfear_points = std::move(r.kstrong.points);

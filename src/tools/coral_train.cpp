@@ -240,7 +240,7 @@ int main(int argc, char** argv) {
     bcfg.odom_topic = get("--odom_topic", "");
     bcfg.fixed_frame = get("--fixed_frame", "odom");
     bcfg.node.rip = ocfg.rip;
-    bcfg.node.coral = fcfg.coral;
+    bcfg.node.online.coral = fcfg.coral;
     bcfg.motion_compensation = ocfg.motion_compensation;
     bcfg.with_cfear = ocfg.with_cfear;
     bcfg.cfear_k = ocfg.cfear_k;

@@ -16,7 +16,7 @@
 
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
-#include "coral_introspection/radar/motion_compensation.hpp"
+#include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 
@@ -67,6 +67,14 @@ int main(int argc, char** argv) {
   const RipConfig rip;  // k = 12, z_min = 70, w = 2, min range 2.5 m
   const CoralConfig coral = CoralConfig::radarPaper();
   const std::size_t n = images.size();
+  // De-skew velocities by the online policy (radar/deskew.hpp) on the GT poses.
+  std::vector<double> stamps(n);
+  Isometries poses;
+  for (std::size_t i = 0; i < n; ++i) {
+    stamps[i] = ds.stamps_us[i] * 1e-6;  // = the decoded scan's stamp (first row)
+    poses.push_back(ds.T_first_scan(i));
+  }
+  const auto velocities = deskewVelocities(stamps, poses);
   std::vector<RadarFeatures> feats(n);
   std::vector<double> t_extract, t_comp, t_coral;
   std::vector<CoralResult> results(n);
@@ -81,9 +89,7 @@ int main(int argc, char** argv) {
         return 1;
       }
       const auto b = Clock::now();
-      const std::size_t j = i == 0 ? 1 : i;  // velocity of the GT motion towards scan i
-      const double dt = (ds.stamps_us[j] - ds.stamps_us[j - 1]) * 1e-6;
-      compensateMotion(twistFromRelativePose(ds.T_prev_curr[j], dt), scan.stamp, &feats[i]);
+      if (velocities[i]) compensateMotion(*velocities[i], scan.stamp, &feats[i]);
       const auto c = Clock::now();
       t_extract.push_back(ms(a, b));
       t_comp.push_back(ms(b, c));

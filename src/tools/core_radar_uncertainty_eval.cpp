@@ -10,7 +10,7 @@
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/coral_uncertainty.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
-#include "coral_introspection/radar/motion_compensation.hpp"
+#include "coral_introspection/eval/oxford_training.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
@@ -50,24 +50,21 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cannot load %s: %s\n", folder.c_str(), err.c_str());
     return 1;
   }
-  // Features (paper Sec. V-A settings), motion-compensated with the GT velocity, then the
-  // polar covariance of the Navtech preset in each scan's own sensor frame.
+  // Features (paper Sec. V-A settings), de-skewed as in training and online (the policy of
+  // radar/deskew.hpp on the GT poses), then the polar covariance of the Navtech preset in
+  // each scan's own sensor frame.
+  OxfordTrainingConfig ocfg;
+  ocfg.with_cfear = false;
+  std::vector<TrainingScan> loaded;
+  Isometries poses;
+  if (!loadOxfordTrainingScans(ds, ocfg, nullptr, &loaded, &poses, &err)) {
+    std::fprintf(stderr, "%s\n", err.c_str());
+    return 1;
+  }
   std::vector<Scan> scans;
-  for (std::size_t i = 0; i < ds.png_paths.size(); ++i) {
-    PolarScan polar;
-    RadarFeatures f;
-    if (!loadOxfordScan(ds.png_paths[i], &polar, &err) ||
-        !extractRipFeatures(polar, RipConfig{}, &f, &err)) {
-      std::fprintf(stderr, "scan %zu: %s\n", i, err.c_str());
-      return 1;
-    }
-    const std::size_t j = i > 0 ? i : 1;  // velocity of the pair ending at scan j
-    const double dt = (ds.stamps_us[j] - ds.stamps_us[j - 1]) * 1e-6;
-    compensateMotion(twistFromRelativePose(ds.T_prev_curr[j], dt), polar.stamp, &f);
-    Scan s;
-    s.points = f.points;
-    attachCovariances(s, RadarNoiseConfig::oxfordCts350x(), 2, &err);
-    scans.push_back(s);
+  for (TrainingScan& t : loaded) {
+    attachCovariances(t.scan, RadarNoiseConfig::oxfordCts350x(), 2, &err);
+    scans.push_back(t.scan);
   }
 
   std::vector<Variant> variants;

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "coral_introspection/coral/coral.hpp"
-#include "coral_introspection/eval/csv_cloud.hpp"
+#include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 #include "support/test_data.hpp"
 
@@ -254,6 +254,20 @@ TEST(Coral, ConfigValidationNamesTheBadField) {
   c.r_min = 1.0;
   c.r_max = 0.5;
   EXPECT_NE(c.validate().find("r_min must be <= r_max"), std::string::npos);
+  // Radii are limited to [0.01, 10] m (fixed and dynamic alike).
+  c = CoralConfig();
+  c.dynamic_radius = true;
+  c.r_min = 0.01;
+  c.r_max = 10.0;
+  EXPECT_EQ(c.validate(), "");
+  c.r_max = 10.5;
+  EXPECT_NE(c.validate().find("r_max must be in [0.01, 10] m"), std::string::npos);
+  c.r_max = 1.0;
+  c.r_min = 0.005;
+  EXPECT_NE(c.validate().find("r_min must be in [0.01, 10] m"), std::string::npos);
+  c = CoralConfig();
+  c.radius = 12.0;
+  EXPECT_NE(c.validate().find("radius must be in [0.01, 10] m (got 12)"), std::string::npos);
   c = CoralConfig();
   c.e_reject = 1.0;
   EXPECT_NE(c.validate().find("e_reject"), std::string::npos);

@@ -7,8 +7,8 @@
 
 #include "coral_introspection/coral/coral_uncertainty.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
+#include "coral_introspection/eval/oxford_training.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
-#include "coral_introspection/radar/motion_compensation.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 #include "support/test_data.hpp"
@@ -124,20 +124,16 @@ TEST(CoralUncertainty, OxfordGroundTruthBeatsHalfMetreOffsets) {
   std::string err;
   ASSERT_TRUE(ds.load(coral_data, &err)) << err;
   ASSERT_GE(ds.png_paths.size(), 2u);
+  // RIP features de-skewed by the online policy on the GT poses (the training path).
+  OxfordTrainingConfig ocfg;
+  ocfg.with_cfear = false;
+  std::vector<TrainingScan> loaded;
+  Isometries poses;
+  ASSERT_TRUE(loadOxfordTrainingScans(ds, ocfg, nullptr, &loaded, &poses, &err)) << err;
   std::vector<Scan> scans;
-  for (std::size_t i = 0; i < ds.png_paths.size(); ++i) {
-    PolarScan polar;
-    RadarFeatures f;
-    ASSERT_TRUE(loadOxfordScan(ds.png_paths[i], &polar, &err)) << err;
-    ASSERT_TRUE(extractRipFeatures(polar, RipConfig{}, &f, &err)) << err;
-    const std::size_t j = i > 0 ? i : 1;
-    compensateMotion(
-        twistFromRelativePose(ds.T_prev_curr[j], (ds.stamps_us[j] - ds.stamps_us[j - 1]) * 1e-6),
-        polar.stamp, &f);
-    Scan s;
-    s.points = f.points;
-    ASSERT_TRUE(attachCovariances(s, RadarNoiseConfig::oxfordCts350x(), 2, &err)) << err;
-    scans.push_back(s);
+  for (TrainingScan& t : loaded) {
+    ASSERT_TRUE(attachCovariances(t.scan, RadarNoiseConfig::oxfordCts350x(), 2, &err)) << err;
+    scans.push_back(t.scan);
   }
   UncertainCoralConfig cfg;
   cfg.base.dimension = 2;

@@ -8,7 +8,7 @@
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
-#include "coral_introspection/radar/motion_compensation.hpp"
+#include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 #include "support/test_data.hpp"
@@ -16,20 +16,25 @@
 using namespace coral_introspection::core;
 
 namespace {
-// RIP features of every scan, motion-compensated to each scan's stamp with the constant
-// velocity of the GT motion towards it (scan 0 uses the first pair's).
+// RIP features of every scan, optionally de-skewed by the online policy
+// (core::deskewVelocities) on the ground-truth poses.
 std::vector<RadarFeatures> extractAll(const OxfordDataset& ds, bool compensate) {
-  std::vector<RadarFeatures> out(ds.png_paths.size());
-  for (std::size_t i = 0; i < ds.png_paths.size(); ++i) {
+  const std::size_t n = ds.png_paths.size();
+  std::vector<RadarFeatures> out(n);
+  std::vector<double> stamps(n);
+  Isometries poses;
+  for (std::size_t i = 0; i < n; ++i) {
     PolarScan scan;
     std::string err;
     EXPECT_TRUE(loadOxfordScan(ds.png_paths[i], &scan, &err)) << err;
     EXPECT_TRUE(extractRipFeatures(scan, RipConfig(), &out[i], &err)) << err;
-    const std::size_t j = i == 0 ? 1 : i;
-    const double dt = (ds.stamps_us[j] - ds.stamps_us[j - 1]) * 1e-6;
-    if (compensate)
-      compensateMotion(twistFromRelativePose(ds.T_prev_curr[j], dt), scan.stamp, &out[i]);
+    stamps[i] = scan.stamp;
+    poses.push_back(ds.T_first_scan(i));
   }
+  if (!compensate) return out;
+  const auto velocities = deskewVelocities(stamps, poses);
+  for (std::size_t i = 0; i < n; ++i)
+    if (velocities[i]) compensateMotion(*velocities[i], stamps[i], &out[i]);
   return out;
 }
 

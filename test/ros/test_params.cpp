@@ -20,9 +20,11 @@ TEST(Params, EmptyTreeGivesCoreDefaults) {
   ASSERT_TRUE(ros_adapters::loadNodeConfig(XmlRpcValue(), &c, &err)) << err;
   EXPECT_EQ(c.input_type, ros_adapters::InputType::kPointCloud);
   EXPECT_EQ(c.fixed_frame, "odom");
-  EXPECT_DOUBLE_EQ(c.coral.radius, core::CoralConfig().radius);
-  EXPECT_DOUBLE_EQ(c.classifier.beta0, core::ClassifierConfig().beta0);
+  EXPECT_DOUBLE_EQ(c.online.coral.radius, core::CoralConfig().radius);
+  EXPECT_DOUBLE_EQ(c.online.classifier.beta0, core::ClassifierConfig().beta0);
   EXPECT_EQ(c.rip.k, core::RipConfig().k);
+  EXPECT_EQ(c.online.deskew.window, core::DeskewConfig().window);
+  EXPECT_EQ(c.online.doppler.check.seed, core::DopplerConfig().seed);
 }
 
 TEST(Params, ReadsNestedValuesOfEveryType) {
@@ -30,6 +32,7 @@ TEST(Params, ReadsNestedValuesOfEveryType) {
   t["input_type"] = "polar_image";
   t["fixed_frame"] = "map";
   t["queue_size"] = 5;
+  t["coral"]["dimension"] = 2;
   t["coral"]["radius"] = 1;  // int accepted for a double
   t["coral"]["aggregation"] = "median";
   t["coral"]["dynamic_radius"] = true;
@@ -42,27 +45,65 @@ TEST(Params, ReadsNestedValuesOfEveryType) {
   t["pairing"]["min_distance"] = 2.5;
   t["doppler"]["enabled"] = true;
   t["doppler"]["velocity_field"] = "v_r";
+  t["doppler"]["seed"] = 7;
+  t["doppler"]["point_covariances"] = false;
+  t["doppler"]["sigma_azimuth"] = 0.01;
+  t["motion_compensation"]["enabled"] = false;
   ros_adapters::NodeConfig c;
   std::string err;
   std::vector<std::string> warnings;
   ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, &warnings)) << err;
   EXPECT_TRUE(warnings.empty());
   EXPECT_EQ(c.input_type, ros_adapters::InputType::kPolarImage);
-  EXPECT_EQ(c.coral.dimension, 2);  // radar default when coral/dimension is not given
+  EXPECT_EQ(c.online.coral.dimension, 2);
   EXPECT_EQ(c.fixed_frame, "map");
   EXPECT_EQ(c.queue_size, 5);
-  EXPECT_DOUBLE_EQ(c.coral.radius, 1.0);
-  EXPECT_EQ(c.coral.aggregation, core::Aggregation::kMedian);
-  EXPECT_TRUE(c.coral.dynamic_radius);
-  EXPECT_DOUBLE_EQ(c.classifier.beta0, 11.0);
-  EXPECT_DOUBLE_EQ(c.classifier.threshold, 0.7);
+  EXPECT_DOUBLE_EQ(c.online.coral.radius, 1.0);
+  EXPECT_EQ(c.online.coral.aggregation, core::Aggregation::kMedian);
+  EXPECT_TRUE(c.online.coral.dynamic_radius);
+  EXPECT_DOUBLE_EQ(c.online.classifier.beta0, 11.0);
+  EXPECT_DOUBLE_EQ(c.online.classifier.threshold, 0.7);
   EXPECT_EQ(c.polar_format, ros_adapters::PolarFormat::kPlain);
   EXPECT_EQ(c.polar.direction, core::AzimuthDirection::kClockwise);
   EXPECT_EQ(c.polar.num_azimuths, 400);
   EXPECT_EQ(c.rip.k, 8);
-  EXPECT_DOUBLE_EQ(c.pairing.min_distance, 2.5);
-  EXPECT_TRUE(c.doppler.enabled);
-  EXPECT_EQ(c.doppler.velocity_field, "v_r");
+  EXPECT_DOUBLE_EQ(c.online.pairing.min_distance, 2.5);
+  EXPECT_TRUE(c.online.doppler.enabled);
+  EXPECT_EQ(c.velocity_field, "v_r");
+  EXPECT_EQ(c.online.doppler.check.seed, 7u);
+  EXPECT_FALSE(c.online.doppler.point_covariances);
+  EXPECT_DOUBLE_EQ(c.online.doppler.noise.sigma_azimuth, 0.01);
+  EXPECT_FALSE(c.online.deskew.enabled);
+}
+
+// No silent switch: polar input with 3D CorAl (the default) is refused with a message that
+// names the parameter; the radar presets set coral/dimension: 2.
+TEST(Params, PolarInputRequires2dCoral) {
+  XmlRpcValue t;
+  t["input_type"] = "polar_image";
+  ros_adapters::NodeConfig c;
+  std::string err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("coral/dimension must be 2 for input_type polar_image"), std::string::npos)
+      << err;
+  t["coral"]["dimension"] = 2;
+  c = ros_adapters::NodeConfig();
+  EXPECT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
+}
+
+TEST(Params, DopplerNoiseAndSeedValidated) {
+  XmlRpcValue t;
+  t["doppler"]["enabled"] = true;
+  t["doppler"]["sigma_range"] = -1.0;
+  ros_adapters::NodeConfig c;
+  std::string err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("doppler/sigma_range"), std::string::npos) << err;
+  XmlRpcValue s;
+  s["doppler"]["seed"] = -3;
+  c = ros_adapters::NodeConfig();
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(s, &c, &err));
+  EXPECT_NE(err.find("doppler/seed"), std::string::npos) << err;
 }
 
 TEST(Params, OutOfRangeValueNamesParamValueAndRange) {
@@ -71,7 +112,7 @@ TEST(Params, OutOfRangeValueNamesParamValueAndRange) {
   EXPECT_FALSE(ros_adapters::loadNodeConfig(group("coral", group("radius", -0.5)), &c, &err));
   EXPECT_NE(err.find("coral/radius"), std::string::npos) << err;
   EXPECT_NE(err.find("-0.5"), std::string::npos) << err;
-  EXPECT_NE(err.find("> 0"), std::string::npos) << err;
+  EXPECT_NE(err.find("[0.01, 10]"), std::string::npos) << err;
 
   c = ros_adapters::NodeConfig();
   EXPECT_FALSE(
@@ -114,6 +155,7 @@ TEST(Params, RadarParamsValidatedOnlyForRadarInput) {
   std::string err;
   EXPECT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
   t["input_type"] = "polar_image";
+  t["coral"]["dimension"] = 2;
   c = ros_adapters::NodeConfig();
   EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
   EXPECT_NE(err.find("rip/"), std::string::npos) << err;

@@ -1,10 +1,9 @@
 // Input conversion of the nodelet (no ROS master): polar images through the radar front
-// end, bad images, Doppler field, velocity from two poses.
+// end, bad images, empty input, Doppler field.
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
-#include "coral_introspection/radar/motion_compensation.hpp"
 #include "coral_introspection/ros/scan_input.hpp"
 
 using namespace coral_introspection;
@@ -40,16 +39,15 @@ ros_adapters::NodeConfig plainRadar() {
 TEST(ImageToSensorScan, PeakBecomesOneFeaturePerAzimuthAtItsRange) {
   ros_adapters::SensorScan s;
   std::string err;
-  ASSERT_TRUE(ros_adapters::imageToSensorScan(polarImage(100, 300, 150), plainRadar(), &s, &err))
-      << err;
-  EXPECT_TRUE(s.is_radar);
-  ASSERT_EQ(s.features.points.size(), 100u);
-  for (const auto& p : s.features.points) {
+  ASSERT_TRUE(ros_adapters::toSensorScan(polarImage(100, 300, 150), plainRadar(), &s, &err)) << err;
+  EXPECT_TRUE(s.scan.is_radar);
+  ASSERT_EQ(s.scan.features.points.size(), 100u);
+  for (const auto& p : s.scan.features.points) {
     EXPECT_NEAR(p.head<2>().norm(), 15.0, 0.15);  // bin 150 * 0.1 m
     EXPECT_EQ(p.z(), 0.0);
   }
-  ASSERT_EQ(s.features.stamps.size(), 100u);
-  EXPECT_NEAR(s.features.stamps.front(), 100.0, 1e-9);  // header stamp = row 0
+  ASSERT_EQ(s.scan.features.stamps.size(), 100u);
+  EXPECT_NEAR(s.scan.features.stamps.front(), 100.0, 1e-9);  // header stamp = row 0
 }
 
 TEST(ImageToSensorScan, WrongEncodingOrSizeIsAnError) {
@@ -57,19 +55,19 @@ TEST(ImageToSensorScan, WrongEncodingOrSizeIsAnError) {
   std::string err;
   auto im = polarImage(100, 300, 150);
   im.encoding = sensor_msgs::image_encodings::RGB8;
-  EXPECT_FALSE(ros_adapters::imageToSensorScan(im, plainRadar(), &s, &err));
+  EXPECT_FALSE(ros_adapters::toSensorScan(im, plainRadar(), &s, &err));
   EXPECT_NE(err.find("mono8"), std::string::npos) << err;
   im = polarImage(100, 300, 150);
   im.data.resize(1000);  // header says more than there is
-  EXPECT_FALSE(ros_adapters::imageToSensorScan(im, plainRadar(), &s, &err));
+  EXPECT_FALSE(ros_adapters::toSensorScan(im, plainRadar(), &s, &err));
   EXPECT_FALSE(err.empty());
   // 90 rows where 100 azimuths are configured: rejected by the decoder.
-  EXPECT_FALSE(ros_adapters::imageToSensorScan(polarImage(90, 300, 150), plainRadar(), &s, &err));
+  EXPECT_FALSE(ros_adapters::toSensorScan(polarImage(90, 300, 150), plainRadar(), &s, &err));
   EXPECT_FALSE(err.empty());
   // Oxford layout expects 3779 columns (metadata + bins).
   auto ox = plainRadar();
   ox.polar_format = ros_adapters::PolarFormat::kOxford;
-  EXPECT_FALSE(ros_adapters::imageToSensorScan(polarImage(400, 300, 150), ox, &s, &err));
+  EXPECT_FALSE(ros_adapters::toSensorScan(polarImage(400, 300, 150), ox, &s, &err));
   EXPECT_FALSE(err.empty());
 }
 
@@ -90,42 +88,55 @@ TEST(CloudToSensorScan, ReadsDopplerFieldOnlyWhenEnabled) {
   ros_adapters::NodeConfig cfg;
   ros_adapters::SensorScan s;
   std::string err;
-  ASSERT_TRUE(ros_adapters::cloudToSensorScan(c, cfg, &s, &err)) << err;
-  EXPECT_TRUE(s.radial_velocity.empty());
-  cfg.doppler.enabled = true;
-  ASSERT_TRUE(ros_adapters::cloudToSensorScan(c, cfg, &s, &err)) << err;
-  ASSERT_EQ(s.radial_velocity.size(), 3u);
-  EXPECT_FLOAT_EQ(s.radial_velocity[2], -1.0);
+  ASSERT_TRUE(ros_adapters::toSensorScan(c, cfg, &s, &err)) << err;
+  EXPECT_TRUE(s.scan.radial_velocity.empty());
+  cfg.online.doppler.enabled = true;
+  ASSERT_TRUE(ros_adapters::toSensorScan(c, cfg, &s, &err)) << err;
+  ASSERT_EQ(s.scan.radial_velocity.size(), 3u);
+  EXPECT_FLOAT_EQ(s.scan.radial_velocity[2], -1.0);
 }
 
-TEST(TwistBetween, InvertsTheConstantVelocityModel) {
-  core::Twist v;
-  v.linear = core::Vec3(5.0, 0.4, 0.0);
-  v.angular = core::Vec3(0.0, 0.0, 0.8);
-  const double dt = 0.25;
-  const Eigen::Isometry3d T_fixed_prev = core::se2(3.0, -1.0, 0.4);
-  const Eigen::Isometry3d T_fixed_curr = T_fixed_prev * core::constantVelocityPose(v, dt);
-  core::Twist est;
-  ASSERT_TRUE(ros_adapters::twistBetween(T_fixed_prev, T_fixed_curr, dt, &est));
-  EXPECT_NEAR((est.linear - v.linear).norm(), 0.0, 1e-9);
-  EXPECT_NEAR((est.angular - v.angular).norm(), 0.0, 1e-9);
-  EXPECT_FALSE(ros_adapters::twistBetween(T_fixed_prev, T_fixed_curr, 0.0, &est));
+TEST(ToSensorScan, HeaderGivesStampAndIdAndEmptyInputIsAnError) {
+  sensor_msgs::PointCloud2 c;
+  sensor_msgs::PointCloud2Modifier mod(c);
+  mod.setPointCloud2FieldsByString(1, "xyz");
+  mod.resize(2);
+  c.header.stamp = ros::Time(1700000000, 123456789);
+  sensor_msgs::PointCloud2Iterator<float> it(c, "x");
+  it[0] = 1.f, it[1] = 2.f, it[2] = 3.f;
+  ++it;
+  it[0] = std::nanf(""), it[1] = 0.f, it[2] = 0.f;
+  ros_adapters::NodeConfig cfg;
+  ros_adapters::SensorScan s;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::toSensorScan(c, cfg, &s, &err)) << err;
+  EXPECT_EQ(s.scan.id, c.header.stamp.toNSec());  // exact: verdicts carry the header stamps
+  EXPECT_DOUBLE_EQ(s.scan.stamp, c.header.stamp.toSec());
+  EXPECT_EQ(s.dropped_non_finite, 1u);
+  EXPECT_FALSE(s.scan.T_fixed_sensor.has_value());
+  // Only NaN points, then no points at all.
+  sensor_msgs::PointCloud2Iterator<float> first(c, "x");
+  first[0] = std::nanf("");
+  EXPECT_FALSE(ros_adapters::toSensorScan(c, cfg, &s, &err));
+  EXPECT_NE(err.find("NaN"), std::string::npos) << err;
+  EXPECT_EQ(s.dropped_non_finite, 2u);  // still counted
+  mod.resize(0);
+  EXPECT_FALSE(ros_adapters::toSensorScan(c, cfg, &s, &err));
+  EXPECT_NE(err.find("0 points"), std::string::npos) << err;
+  // An image whose peaks are all below rip/z_min gives no feature.
+  auto cfg_radar = plainRadar();
+  cfg_radar.rip.z_min = 250;
+  EXPECT_FALSE(ros_adapters::toSensorScan(polarImage(100, 300, 150), cfg_radar, &s, &err));
+  EXPECT_NE(err.find("z_min"), std::string::npos) << err;
 }
 
-TEST(RobustTwist, MedianIgnoresOneOdometryJump) {
-  core::Twist good, jump_in, jump_out;
-  good.linear = core::Vec3(3.0, 0.0, 0.0);
-  good.angular = core::Vec3(0.0, 0.0, 0.3);
-  jump_in = good;
-  jump_in.linear.y() += 2.0;  // 0.5 m lateral jump over 0.25 s
-  jump_out = good;
-  jump_out.linear.y() -= 2.0;  // and back (a single displaced pose)
-  const core::Twist m1 = ros_adapters::robustTwist({good, good, jump_in});
-  EXPECT_NEAR((m1.linear - good.linear).norm(), 0.0, 1e-12);
-  const core::Twist m2 = ros_adapters::robustTwist({good, jump_in, jump_out});
-  EXPECT_NEAR((m2.linear - good.linear).norm(), 0.0, 1e-12);
-  EXPECT_NEAR((m2.angular - good.angular).norm(), 0.0, 1e-12);
-  // Fewer than three: the latest.
-  EXPECT_NEAR((ros_adapters::robustTwist({good, jump_in}).linear - jump_in.linear).norm(), 0.0,
-              1e-12);
+TEST(NoPoseInput, CarriesTheTfErrorAndNoPose) {
+  std_msgs::Header h;
+  h.stamp = ros::Time(12.5);
+  h.frame_id = "lidar";
+  const online::ScanInput s = ros_adapters::noPoseInput(h, "odom", "extrapolation");
+  EXPECT_FALSE(s.T_fixed_sensor.has_value());
+  EXPECT_EQ(s.id, h.stamp.toNSec());
+  EXPECT_NE(s.pose_error.find("odom <- 'lidar'"), std::string::npos) << s.pose_error;
+  EXPECT_NE(s.pose_error.find("extrapolation"), std::string::npos) << s.pose_error;
 }

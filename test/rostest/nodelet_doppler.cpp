@@ -61,9 +61,16 @@ class Doppler : public ::testing::Test {
     // The nodelet's sign convention (set to the non-default in the .test): simulate with it.
     ASSERT_TRUE(ros::param::get(kNs + "/coral/doppler/radial_velocity_positive_away",
                                 sim_.radial_velocity_positive_away));
+    // The noise model the nodelet weights the points with (point covariances): simulate it.
+    ASSERT_TRUE(
+        ros::param::get(kNs + "/coral/doppler/sigma_range", sim_.position_noise.sigma_range));
+    ASSERT_TRUE(
+        ros::param::get(kNs + "/coral/doppler/sigma_azimuth", sim_.position_noise.sigma_azimuth));
+    ASSERT_TRUE(ros::param::get(kNs + "/coral/doppler/sigma_elevation",
+                                sim_.position_noise.sigma_elevation));
     sim_.num_points = 300;        // a 4D radar scan (static clutter + movers)
     sim_.outlier_fraction = 0.2;  // points on moving objects
-    // Default polar position noise and sigma_doppler = 0.05 m/s (as configured).
+    // sigma_doppler = 0.05 m/s (as configured).
     pub_ = nh_.advertise<sensor_msgs::PointCloud2>(kNs + "/scan", 10);
   }
 

@@ -40,16 +40,33 @@ TEST(CheckAlignment, CloudsCorrectVsOffsetTransform) {
   EXPECT_GT(bad.quality, good.quality);
   EXPECT_LT(bad.probability, good.probability);
 
-  // A malformed request fails the call (no crash), and the service keeps working.
+  EXPECT_TRUE(srv.response.error.empty()) << srv.response.error;
+
+  // A refused request is answered with the reason (not a failed call, no crash), and the
+  // service keeps working.
   CheckAlignment broken = srv;
-  broken.request.transform_a_b.rotation.w = 0.0;  // zero quaternion
-  EXPECT_FALSE(call("/lidar/check_alignment", broken));
+  broken.request.transform_a_b.rotation.w = 0.0;  // not a unit quaternion
+  ASSERT_TRUE(call("/lidar/check_alignment", broken));
+  EXPECT_FALSE(broken.response.result.valid);
+  EXPECT_NE(broken.response.error.find("unit quaternion"), std::string::npos)
+      << broken.response.error;
   broken = srv;
   broken.request.cloud_b.fields.pop_back();  // no z
-  EXPECT_FALSE(call("/lidar/check_alignment", broken));
+  ASSERT_TRUE(call("/lidar/check_alignment", broken));
+  EXPECT_FALSE(broken.response.result.valid);
+  EXPECT_NE(broken.response.error.find("cloud_b"), std::string::npos) << broken.response.error;
+  EXPECT_NE(broken.response.error.find("'z'"), std::string::npos) << broken.response.error;
+  // Well-formed but 100 m off: judged, no verdict, and the reason is the overlap.
+  broken = srv;
+  broken.request.transform_a_b = ros_adapters::toTransformMsg(core::se2(100.0, 0.0, 0.0));
+  ASSERT_TRUE(call("/lidar/check_alignment", broken));
+  EXPECT_FALSE(broken.response.result.valid);
+  EXPECT_FALSE(broken.response.result.aligned);
+  EXPECT_NE(broken.response.error.find("overlap"), std::string::npos) << broken.response.error;
   srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b);
   ASSERT_TRUE(call("/lidar/check_alignment", srv));
   EXPECT_TRUE(srv.response.result.aligned);
+  EXPECT_TRUE(srv.response.error.empty()) << srv.response.error;
 }
 
 TEST(CheckAlignment, PolarImagesCorrectVsOffsetTransform) {

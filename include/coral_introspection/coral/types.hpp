@@ -13,6 +13,7 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using Points = std::vector<Vec3, Eigen::aligned_allocator<Vec3>>;
 using Covariances = std::vector<Mat3, Eigen::aligned_allocator<Mat3>>;
+using Isometries = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
 
 // One scan expressed in some frame. For 2D data z is 0 (and ignored when dimension == 2).
 struct Scan {

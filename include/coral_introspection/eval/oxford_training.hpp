@@ -1,6 +1,6 @@
 // Training scans from an Oxford Radar RobotCar style folder (paper Sec. V-A): RIP features
 // for CorAl / MME / NDT and k-strongest points for the CFEAR baselines, both motion
-// compensated with the ground-truth velocity.
+// compensated by the online de-skew policy (radar/deskew.hpp) on the ground-truth poses.
 #pragma once
 
 #include <string>
@@ -18,8 +18,8 @@ struct OxfordTrainingConfig {
   bool with_cfear = true;     // also extract the CFEAR input points
   int cfear_k = 12;           // CFEAR k-strongest: k = 12 ...
   double cfear_z_min = 60.0;  // ... z_min = 60 (Sec. V-A b)
-  // Sec. V-A: "in all cases, we have compensated for motion distortion". Constant velocity
-  // of the ground-truth motion from the previous scan (scan 0 uses the first pair's).
+  // Sec. V-A: "in all cases, we have compensated for motion distortion", with the velocity
+  // the online policy derives from the ground-truth poses (core::deskewVelocities).
   bool motion_compensation = true;
   int max_scans = 0;             // use only the first max_scans scans; 0 = all
   std::string validate() const;  // empty when valid

@@ -16,8 +16,6 @@
 namespace coral_introspection {
 namespace core {
 
-using Isometries = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
-
 // One scan in its own sensor frame.
 struct TrainingScan {
   double stamp = 0.0;   // [s]

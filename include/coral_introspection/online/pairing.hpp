@@ -24,8 +24,6 @@ enum class PairAction {
   kDuplicateReset,  // same stamp as the reference: reset
 };
 
-const char* toString(PairAction a);
-
 class ScanPairing {
  public:
   explicit ScanPairing(const PairingConfig& cfg = PairingConfig()) : cfg_(cfg) {}
@@ -34,8 +32,7 @@ class ScanPairing {
   // frame), and updates the reference accordingly (kept only on kTooClose).
   PairAction offer(double stamp, const core::Vec3& position);
   void reset() { has_reference_ = false; }
-  bool hasReference() const { return has_reference_; }
-  double referenceStamp() const { return ref_stamp_; }
+  double referenceStamp() const { return ref_stamp_; }  // [s], 0 before the first scan
 
  private:
   PairingConfig cfg_;

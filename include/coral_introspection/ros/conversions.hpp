@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "coral_introspection/AlignmentQuality.h"
+#include "coral_introspection/VelocityConsistency.h"
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/types.hpp"
+#include "coral_introspection/online/introspector.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {
@@ -44,18 +46,23 @@ sensor_msgs::PointCloud2 pointsToCloud(const core::Points& points, const std_msg
                                        const std::vector<float>* intensity = nullptr);
 
 // Per-point quality cloud of a CorAl pair: fields x, y, z, q, h_sep, h_joint (float32) and
-// scan (uint8, 0 = a, 1 = b). a and b must be the finite scans given to computeCoral (in
-// the header's frame); only points with a valid per-point entropy (overlap, not rejected)
-// are written, so colouring by q shows where the two scans disagree.
-sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan& b,
-                                           const core::CoralResult& result,
-                                           const std_msgs::Header& header);
+// scan (uint8, 0 = a, 1 = b). a and b must be the finite scans given to computeCoral, whose
+// points T_header_scans maps into the header's frame; only points with a valid per-point
+// entropy (overlap, not rejected) are written, so colouring by q shows where the two scans
+// disagree.
+sensor_msgs::PointCloud2 buildQualityCloud(
+    const core::Scan& a, const core::Scan& b, const core::CoralResult& result,
+    const std_msgs::Header& header,
+    const Eigen::Isometry3d& T_header_scans = Eigen::Isometry3d::Identity());
 
 // Verdict message of a pair. verdict is used only when result.valid (else aligned = false,
 // probability = 0).
 AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict& verdict,
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b);
+
+// Doppler check of one scan (header: the scan's stamp and sensor frame).
+VelocityConsistency toMessage(const online::DopplerReport& doppler, const std_msgs::Header& header);
 
 // geometry_msgs::Transform <-> Eigen. A non-unit or non-finite quaternion is rejected
 // (false) rather than silently normalised into a different rotation.

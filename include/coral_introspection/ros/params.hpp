@@ -1,5 +1,5 @@
-// Parameters of CoralNodelet: one struct holding every setting (defaults = the core
-// config defaults), loaded from the private namespace and validated before anything
+// Parameters of CoralNodelet: one struct holding every setting (defaults = the core and
+// online config defaults), loaded from the private namespace and validated before anything
 // starts. Loading works on an XmlRpc tree so it is unit-tested without a ROS master.
 #pragma once
 
@@ -8,10 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/coral/classifier.hpp"
-#include "coral_introspection/coral/coral.hpp"
-#include "coral_introspection/online/pairing.hpp"
-#include "coral_introspection/radar/doppler.hpp"
+#include "coral_introspection/online/introspector_config.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 
@@ -21,31 +18,24 @@ namespace ros_adapters {
 enum class InputType { kPointCloud, kPolarImage };
 enum class PolarFormat { kOxford, kPlain };
 
-struct DopplerParams {
-  bool enabled = false;
-  std::string velocity_field = "velocity";  // PointCloud2 field with the radial velocity [m/s]
-  core::DopplerConfig check;                // doppler/* thresholds (core/doppler.hpp)
-};
-
 struct NodeConfig {
   InputType input_type = InputType::kPointCloud;
   std::string fixed_frame = "odom";
   int queue_size = 10;      // scans waiting for TF in the message filter
   double tf_timeout = 1.0;  // [s] wall time a scan may wait for TF before it counts as failed
-  online::PairingConfig pairing;
-  core::CoralConfig coral;
-  core::ClassifierConfig classifier;
+  // pairing/, coral/, classifier/, motion_compensation/, doppler/: the Introspector's config.
+  // Polar input requires coral/dimension 2 (RIP features are planar: 3D covariances of
+  // z = 0 points are singular), checked by validate() rather than switched silently.
+  online::IntrospectorConfig online;
   PolarFormat polar_format = PolarFormat::kOxford;
   core::PolarImageConfig polar;  // used by polar_format plain (oxford: fixed layout)
   core::RipConfig rip;
-  bool motion_compensation = true;  // radar: de-skew features with the TF velocity
   bool publish_quality_cloud = true;
   bool publish_features = true;
-  DopplerParams doppler;
+  std::string velocity_field = "velocity";  // doppler/velocity_field: radial velocity [m/s]
 
   std::string validate() const;  // empty when valid; names the parameter, value and range
 };
-
 // Reads the private parameter tree `params` (a struct, e.g. from
 // nh.getParam(pnh.getNamespace(), v); an invalid/empty value means "no parameters set").
 // Missing keys keep their defaults. Returns false with *error naming the parameter, the
@@ -53,6 +43,27 @@ struct NodeConfig {
 // inside the known groups (coral/, rip/, ...) are reported in *warnings (likely typos).
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,
                     std::vector<std::string>* warnings = nullptr);
+
+// The runtime-safe parameters (cfg/Coral.cfg) <-> NodeConfig; R is the generated
+// dynamic_reconfigure struct (coral_introspection::CoralConfig).
+template <class R>
+R toReconfigure(const NodeConfig& c) {
+  R r;
+  r.classifier_threshold = c.online.classifier.threshold;
+  r.coral_radius = c.online.coral.radius;
+  r.coral_min_overlap = c.online.coral.min_overlap;
+  r.publish_quality_cloud = c.publish_quality_cloud;
+  r.publish_features = c.publish_features;
+  return r;
+}
+template <class R>
+void applyReconfigure(const R& r, NodeConfig* c) {
+  c->online.classifier.threshold = r.classifier_threshold;
+  c->online.coral.radius = r.coral_radius;
+  c->online.coral.min_overlap = r.coral_min_overlap;
+  c->publish_quality_cloud = r.publish_quality_cloud;
+  c->publish_features = r.publish_features;
+}
 
 }  // namespace ros_adapters
 }  // namespace coral_introspection

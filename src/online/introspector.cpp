@@ -1,0 +1,185 @@
+#include "coral_introspection/online/introspector.hpp"
+
+#include <sstream>
+
+#include "coral_introspection/radar/radar_uncertainty.hpp"
+
+namespace coral_introspection {
+namespace online {
+
+namespace {
+std::string noVerdictReason(const core::CoralResult& r, const core::CoralConfig& cfg) {
+  std::ostringstream s;
+  if (r.num_points_a == 0 || r.num_points_b == 0)
+    s << "a scan has no finite point (" << r.num_points_a << " and " << r.num_points_b << ")";
+  else if (r.overlap < cfg.min_overlap)
+    s << "overlap " << r.overlap << " below coral/min_overlap " << cfg.min_overlap
+      << " (wrong transform or too far apart?)";
+  else
+    s << "no point with finite entropies (" << r.num_overlap
+      << " overlapping; check coral/radius, coral/epsilon, coral/dimension)";
+  return s.str();
+}
+}  // namespace
+
+PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
+                        const IntrospectorConfig& cfg, bool per_point) {
+  PairJudgement j;
+  j.ref = std::move(ref);
+  j.ref.origin = core::Vec3::Zero();
+  j.cur = core::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
+  core::CoralConfig cc = cfg.coral;
+  cc.per_point = per_point;
+  j.coral = core::computeCoral(j.ref, j.cur, cc);
+  if (j.coral.valid)
+    j.verdict = core::classify(cfg.classifier, j.coral.h_joint, j.coral.h_sep);  // Eq. 9-10
+  else
+    j.reason = noVerdictReason(j.coral, cfg.coral);
+  return j;
+}
+
+Introspector::Introspector(const IntrospectorConfig& cfg)
+    : cfg_(cfg), pairing_(cfg.pairing), velocity_(cfg.deskew.window) {}
+
+bool Introspector::setConfig(const IntrospectorConfig& cfg, std::string* error) {
+  if (std::string e = cfg.validate(); !e.empty()) {
+    if (error) *error = e;
+    return false;
+  }
+  if (cfg.deskew.window != cfg_.deskew.window) velocity_ = core::VelocityHistory(cfg.deskew.window);
+  cfg_ = cfg;
+  pairing_.setConfig(cfg.pairing);
+  return true;
+}
+
+void Introspector::reset() {
+  pairing_.reset();
+  velocity_.reset();
+  reference_.reset();
+}
+
+Report Introspector::process(ScanInput in, const ProcessOptions& options) {
+  Report rep;
+  rep.stamp = in.stamp;
+  rep.id = in.id;
+  ++counters_.scans;
+  auto finish = [&](std::string reason) {
+    rep.reason = std::move(reason);
+    rep.counters = counters_;
+    return rep;
+  };
+  if (!in.T_fixed_sensor) {
+    ++counters_.pose_failures;
+    return finish("no pose: " + (in.pose_error.empty() ? "unknown" : in.pose_error));
+  }
+  if (in.features.points.empty()) {
+    ++counters_.empty_scans;
+    return finish("empty scan (no points)");
+  }
+  rep.has_pose = true;
+  Held cur;
+  cur.T_fixed_sensor = *in.T_fixed_sensor;
+  cur.stamp = in.stamp;
+  cur.id = in.id;
+  const double ref_stamp = pairing_.referenceStamp();
+  rep.action = pairing_.offer(in.stamp, cur.T_fixed_sensor.translation());
+  const bool sequence_start =
+      rep.action == PairAction::kFirst || rep.action == PairAction::kGapReset ||
+      rep.action == PairAction::kBackwardsReset || rep.action == PairAction::kDuplicateReset;
+  if (sequence_start) velocity_.reset();
+  const bool have_velocity = velocity_.add(in.stamp, cur.T_fixed_sensor);
+
+  // The one de-skew policy (radar/deskew.hpp), exactly as deskewVelocities() in training.
+  if (in.is_radar && cfg_.deskew.enabled) {
+    if (have_velocity) {
+      const core::Twist v = velocity_.deskewVelocity();
+      core::compensateMotion(v, in.stamp, &in.features);
+      rep.deskewed = true;
+      if (reference_ && reference_->needs_deskew) {  // first scan of the sequence
+        core::compensateMotion(v, reference_->stamp, &reference_->features);
+        reference_->needs_deskew = false;
+      }
+    } else {
+      cur.needs_deskew = true;
+    }
+  }
+  if (cfg_.doppler.enabled && have_velocity && !in.radial_velocity.empty()) checkDoppler(in, &rep);
+  if (options.keep_features) rep.features = in.features;
+  cur.features = std::move(in.features);
+
+  std::ostringstream why;
+  switch (rep.action) {
+    case PairAction::kPair:
+      judge(cur, options, &rep);
+      break;
+    case PairAction::kFirst:
+      why << "first scan of a sequence (becomes the reference)";
+      break;
+    case PairAction::kTooClose:
+      ++counters_.too_close;
+      why << "travelled less than pairing/min_distance = " << cfg_.pairing.min_distance
+          << " m from the reference";
+      break;
+    case PairAction::kGapReset:
+      ++counters_.gap_resets;
+      why << "reference " << in.stamp - ref_stamp
+          << " s old > pairing/max_time_gap = " << cfg_.pairing.max_time_gap
+          << " s: pairing restarts";
+      break;
+    case PairAction::kBackwardsReset:
+      ++counters_.time_resets;
+      why << "time jumped backwards (" << ref_stamp << " s -> " << in.stamp
+          << " s, looping bag?): pairing restarts";
+      break;
+    case PairAction::kDuplicateReset:
+      ++counters_.duplicate_stamps;
+      why << "two scans with stamp " << in.stamp << " s: pairing restarts";
+      break;
+  }
+  if (rep.action != PairAction::kTooClose) reference_ = std::move(cur);
+  return finish(rep.judged ? rep.pair.reason : why.str());
+}
+
+void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) {
+  Held& ref = *reference_;
+  core::Scan a, b;
+  a.points = std::move(ref.features.points);  // ref is replaced by cur afterwards
+  b.points = cur.features.points;
+  rep->judged = true;
+  rep->stamp_ref = ref.stamp;
+  rep->id_ref = ref.id;
+  rep->T_fixed_ref = ref.T_fixed_sensor;
+  rep->pair = judgePair(std::move(a), b, ref.T_fixed_sensor.inverse() * cur.T_fixed_sensor, cfg_,
+                        options.per_point);
+  if (!options.keep_scans) rep->pair.ref = rep->pair.cur = core::Scan();
+  ++counters_.pairs;
+  counters_.coral_seconds += rep->pair.coral.seconds;
+  if (rep->pair.coral.valid) {
+    ++counters_.valid_pairs;
+    if (!rep->pair.verdict.aligned) ++counters_.misaligned;
+  }
+}
+
+// Doppler (paper 2, Eq. 9-12): the odometry's latest velocity (sensor frame) against the
+// radial velocities, each point weighted by its propagated polar covariance.
+void Introspector::checkDoppler(const ScanInput& in, Report* rep) {
+  DopplerReport d;
+  d.velocity_odometry = velocity_.lastTwist().linear;
+  d.num_points = in.radial_velocity.size();
+  core::Scan s;
+  const core::Covariances* cov = nullptr;
+  if (in.covariances.size() == in.features.points.size()) {
+    cov = &in.covariances;
+  } else if (cfg_.doppler.point_covariances) {
+    s.points = in.features.points;  // sensor frame, sensor at the origin
+    if (core::attachCovariances(s, cfg_.doppler.noise, 3, nullptr)) cov = &s.covariances;
+  }
+  d.result = core::checkVelocityConsistency(in.features.points, in.radial_velocity,
+                                            d.velocity_odometry, cfg_.doppler.check, cov);
+  ++counters_.doppler_checks;
+  if (d.result.valid && !d.result.consistent) ++counters_.doppler_inconsistent;
+  rep->doppler = std::move(d);
+}
+
+}  // namespace online
+}  // namespace coral_introspection
