@@ -41,9 +41,13 @@ def sim_metrics(args, seq, kind, sets):
 
 
 def ti_metrics(args, sets):
-    cmd = [args.rio_offline, "--bag", args.bag, "--config",
-           os.path.join(REPO, "config", "rio_ti_mmwave.yaml"), "--output",
-           os.path.join(args.work, "ti.tum")]
+    config = os.path.join(REPO, "config", "rio_ti_mmwave.yaml")
+    if args.bag:
+        cmd = [args.rio_offline, "--bag", args.bag, "--config", config, "--output",
+               os.path.join(args.work, "ti.tum")]
+    else:  # the bag converted to a text sequence (trigger times already applied)
+        cmd = [os.path.join(args.bin, "coral_rio_run"), "--sequence", args.ti_sequence,
+               "--config", config, "--loop"]
     for s in sets:
         cmd += ["--set", s]
     out = run(cmd)
@@ -53,12 +57,12 @@ def ti_metrics(args, sets):
 
 def table(args, seqs, rows):
     head = ["setting"] + ["%s %d (APE / RPE m)" % (k, s) for k, s in SIMS]
-    if args.bag:
+    if args.bag or args.ti_sequence:
         head.append("TI loop (end-point m / yaw deg)")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for label, sets in rows:
         cells = [label] + [sim_metrics(args, seq, k, sets) for (k, _), seq in zip(SIMS, seqs)]
-        if args.bag:
+        if args.bag or args.ti_sequence:
             cells.append(ti_metrics(args, sets))
         lines.append("| " + " | ".join(cells) + " |")
         print(lines[-1], file=sys.stderr)
@@ -70,6 +74,8 @@ def main():
     p.add_argument("--bin", required=True, help="directory of coral_rio_simulate / coral_rio_run")
     p.add_argument("--rio-offline", default="", help="rio_offline (default: --bin/rio_offline)")
     p.add_argument("--bag", default="", help="the TI bag; empty = simulated sequences only")
+    p.add_argument("--ti-sequence", default="",
+                   help="instead of --bag: the TI bag as a coral_rio_run text sequence")
     p.add_argument("--work", default="/tmp/rio_tables")
     args = p.parse_args()
     args.rio_offline = args.rio_offline or os.path.join(args.bin, "rio_offline")

@@ -2,7 +2,7 @@
 
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
-#include <pluginlib/class_list_macros.h>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/conversions.hpp"
