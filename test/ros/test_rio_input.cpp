@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <filesystem>
+
+#include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
@@ -93,4 +96,25 @@ TEST(RioInput, ConfigFromYamlIsValidated) {
   EXPECT_NE(err.find("time_source"), std::string::npos);
   cfg = ra::RioInputConfig();
   EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("{time_source: trigger}"), &cfg, &err));
+}
+
+// Every RioNodelet / rio_offline config in config/ loads without errors or warnings.
+TEST(RioInput, EveryRioConfigLoads) {
+  int n = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(CORAL_SOURCE_DIR) + "/config")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("rio_", 0) != 0) continue;
+    SCOPED_TRACE(name);
+    ++n;
+    const YAML::Node root = YAML::LoadFile(e.path().string());
+    rio::RioConfig cfg;
+    ra::RioInputConfig in;
+    std::string err;
+    std::vector<std::string> warnings;
+    EXPECT_TRUE(rio::loadRioConfig(root, &cfg, &err, &warnings, {"ros"})) << err;
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    EXPECT_TRUE(ra::loadRioInputConfig(root["ros"], &in, &err)) << err;
+  }
+  EXPECT_GE(n, 3);
 }
