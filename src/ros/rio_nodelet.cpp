@@ -42,7 +42,8 @@ void RioNodelet::onInit() {
 
   updater_ = std::make_shared<diagnostic_updater::Updater>(nh, pnh);
   updater_->setHardwareID("rio");
-  updater_->add("radar-inertial odometry", this, &RioNodelet::diagnose);
+  // Several nodelets share the manager's node name: the task name says which one.
+  updater_->add(getName() + ": radar-inertial odometry", this, &RioNodelet::diagnose);
   timer_ = pnh.createWallTimer(ros::WallDuration(1.0),
                                [this](const ros::WallTimerEvent&) { updater_->update(); });
 

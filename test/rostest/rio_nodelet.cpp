@@ -99,7 +99,10 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   ros::WallDuration(1.5).sleep();
   std::lock_guard<std::mutex> l(c.m);
   // 412 scans; about 1 s of standing start initialises the filter.
-  ASSERT_GE(c.odom.size(), 350u);
+  ASSERT_GE(c.odom.size(), 350u) << "diagnostics: imu " << c.diag["imu messages"] << ", radar "
+                                 << c.diag["radar messages"] << ", triggers "
+                                 << c.diag["trigger messages"] << ", frames " << c.diag["frames"]
+                                 << ", " << c.summary;
   const nav_msgs::Odometry& first = c.odom.front();
   const nav_msgs::Odometry& end = c.odom.back();
   for (const nav_msgs::Odometry& o : c.odom) {
