@@ -25,6 +25,8 @@ PKGS=(
   clang libclang-rt-14-dev llvm-14
   # tools: CARMEN .clf.bz2 laser logs (eval)
   libbz2-dev
+  # radar-inertial odometry (rio): Ceres solver
+  libceres-dev
 )
 
 missing=()

@@ -54,13 +54,19 @@ ConsistencyResult checkVelocityConsistency(const Points& points,
                                            const Vec3& sensor_velocity, const DopplerConfig& cfg,
                                            const Covariances* point_cov,
                                            const Mat3* sensor_velocity_cov) {
-  ConsistencyResult c;
   if (!sensor_velocity.allFinite() ||
       (sensor_velocity_cov != nullptr && !sensor_velocity_cov->allFinite())) {
+    ConsistencyResult c;
     c.error = "sensor_velocity or its covariance is not finite";
     return c;
   }
-  const DopplerFit fit = fitDoppler(points, radial_velocity, cfg, point_cov);
+  return testVelocity(fitDoppler(points, radial_velocity, cfg, point_cov), sensor_velocity, cfg,
+                      sensor_velocity_cov);
+}
+
+ConsistencyResult testVelocity(const DopplerFit& fit, const Vec3& sensor_velocity,
+                               const DopplerConfig& cfg, const Mat3* sensor_velocity_cov) {
+  ConsistencyResult c;
   c.num_inliers = fit.inliers.size();
   c.velocity_doppler = fit.velocity;
   if (!fit.valid) {

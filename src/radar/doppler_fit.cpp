@@ -18,16 +18,22 @@ struct Obs {
   Mat3 cov;           // point covariance (zero if unknown)
 };
 
-// Variance of the Eq. 9 residual: sigma_doppler^2 + J Sigma_k J^T with
-// J = d(d^T v)/dp = v^T (I - d d^T) / |p|  (Eq. 11-12).
 double residualVariance(const Obs& o, const Vec3& v, double sigma_doppler) {
-  const Vec3 J = (v - o.d * o.d.dot(v)) / o.range;
-  return sigma_doppler * sigma_doppler + J.dot(o.cov * J);
+  return dopplerResidualVariance(o.d * o.range, v, o.cov, sigma_doppler);
 }
 
 double absResidual(const Obs& o, const Vec3& v) { return std::abs(o.d.dot(v) - o.m); }
 
 }  // namespace
+
+double dopplerResidualVariance(const Vec3& p, const Vec3& v, const Mat3& point_cov,
+                               double sigma_doppler) {
+  const double r = p.norm();
+  const Vec3 d = p / r;
+  // J = d(d^T v)/dp = v^T (I - d d^T) / |p|  (Eq. 11-12).
+  const Vec3 J = (v - d * d.dot(v)) / r;
+  return sigma_doppler * sigma_doppler + J.dot(point_cov * J);
+}
 
 DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_velocity,
                       const DopplerConfig& cfg, const Covariances* point_cov) {

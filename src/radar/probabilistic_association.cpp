@@ -3,6 +3,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 namespace coral_introspection {
@@ -14,6 +15,8 @@ std::string ProbabilisticAssociationConfig::validate() const {
       .require(gate_sigma > 0.0, "gate_sigma", "> 0", gate_sigma)
       .require(max_search_radius > 0.0, "max_search_radius", "> 0 m", max_search_radius)
       .require(min_variance > 0.0, "min_variance", "> 0 m^2", min_variance)
+      .require(ambiguity_ratio >= 0.0 && ambiguity_ratio < 1.0, "ambiguity_ratio", "in [0, 1)",
+               ambiguity_ratio)
       .str();
 }
 
@@ -67,9 +70,9 @@ ProbabilisticMatcher::ProbabilisticMatcher(const Points& landmarks,
                                            const ProbabilisticAssociationConfig& cfg)
     : cfg_(cfg), grid_(finiteOnly(landmarks, &original_), cfg.max_search_radius, cfg.dimension) {}
 
-ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma) const {
-  ProbabilisticMatch best;
-  if (!p.allFinite() || !sigma.allFinite()) return best;
+template <class Fn>
+void ProbabilisticMatcher::forEachInGate(const Vec3& p, const Mat3& sigma, Fn&& fn) const {
+  if (!p.allFinite() || !sigma.allFinite()) return;
   Mat3 inv;
   double logdet = 0.0, lambda_max = 0.0;
   regularisedInverse(sigma, cfg_.dimension, cfg_.min_variance, &inv, &logdet, &lambda_max);
@@ -81,15 +84,27 @@ ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma)
     Vec3 r = l - p;
     if (cfg_.dimension == 2) r.z() = 0.0;
     const double m2 = r.dot(inv * r);
-    // Sigma_k is shared by all candidates of p_k, so the highest density (Eq. 14) is the
-    // smallest Mahalanobis distance; the 3-sigma gate removes outliers.
-    if (m2 <= gate2 && m2 < best.mahalanobis2) {
-      best.target = static_cast<int>(original_[idx]);
-      best.mahalanobis2 = m2;
-      best.log_density = log_norm - 0.5 * m2;
-    }
+    if (m2 <= gate2) fn(static_cast<int>(original_[idx]), m2, log_norm - 0.5 * m2);
+  });
+}
+
+ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma) const {
+  ProbabilisticMatch best;
+  // Sigma_k is shared by all candidates of p_k, so the highest density (Eq. 14) is the
+  // smallest Mahalanobis distance; the 3-sigma gate removes outliers.
+  forEachInGate(p, sigma, [&](int target, double m2, double log_density) {
+    if (m2 < best.mahalanobis2) best = {target, m2, log_density};
   });
   return best;
+}
+
+std::vector<ProbabilisticMatch> ProbabilisticMatcher::candidates(const Vec3& p,
+                                                                 const Mat3& sigma) const {
+  std::vector<ProbabilisticMatch> out;
+  forEachInGate(p, sigma, [&](int target, double m2, double log_density) {
+    out.push_back({target, m2, log_density});
+  });
+  return out;
 }
 
 std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
@@ -109,6 +124,60 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
   out.reserve(queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i)
     out.push_back(matcher.match(queries[i], covariances[i]));
+  return out;
+}
+
+std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
+                                                  const Covariances& covariances,
+                                                  const Points& landmarks,
+                                                  const ProbabilisticAssociationConfig& cfg,
+                                                  std::string* error) {
+  std::string msg = cfg.validate();
+  if (msg.empty() && covariances.size() != queries.size())
+    msg = "covariances size differs from queries size";
+  if (!msg.empty()) {
+    if (error) *error = msg;
+    return {};
+  }
+  const ProbabilisticMatcher matcher(landmarks, cfg);
+  struct Pair {
+    double log_density;
+    int query;
+    ProbabilisticMatch match;
+  };
+  std::vector<Pair> pairs;
+  std::vector<ProbabilisticMatch> out(queries.size());
+  const double log_ratio = cfg.ambiguity_ratio > 0.0 ? std::log(cfg.ambiguity_ratio) : 0.0;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const std::vector<ProbabilisticMatch> cands = matcher.candidates(queries[i], covariances[i]);
+    if (cfg.ambiguity_ratio > 0.0 && cands.size() >= 2) {
+      double best = -std::numeric_limits<double>::infinity(), second = best;
+      for (const ProbabilisticMatch& m : cands) {
+        if (m.log_density > best)
+          second = best, best = m.log_density;
+        else if (m.log_density > second)
+          second = m.log_density;
+      }
+      if (second - best >= log_ratio) {
+        out[i].ambiguous = true;
+        continue;
+      }
+    }
+    for (const ProbabilisticMatch& m : cands)
+      pairs.push_back({m.log_density, static_cast<int>(i), m});
+  }
+  // Highest density first; ties broken by query then landmark index (deterministic).
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+    if (a.log_density != b.log_density) return a.log_density > b.log_density;
+    if (a.query != b.query) return a.query < b.query;
+    return a.match.target < b.match.target;
+  });
+  std::vector<bool> taken(landmarks.size(), false);
+  for (const Pair& p : pairs) {
+    if (out[p.query].target >= 0 || taken[p.match.target]) continue;
+    out[p.query] = p.match;
+    taken[p.match.target] = true;
+  }
   return out;
 }
 

@@ -211,10 +211,13 @@ NodeConfig load(const XmlRpcValue& tree, const std::string& what) {
   return c;
 }
 
+// CoralNodelet presets: config/*.yaml except rio_*.yaml (RioNodelet settings, loaded and
+// checked by rio::loadRioConfig).
 std::vector<std::string> presetFiles() {
   std::vector<std::string> files;
   for (const auto& e : std::filesystem::directory_iterator(kSource + "/config"))
-    if (e.path().extension() == ".yaml") files.push_back(e.path().string());
+    if (e.path().extension() == ".yaml" && e.path().filename().string().rfind("rio_", 0) != 0)
+      files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   return files;
 }

@@ -72,6 +72,12 @@ ConsistencyResult checkVelocityConsistency(const Points& points,
                                            const Covariances* point_cov = nullptr,
                                            const Mat3* sensor_velocity_cov = nullptr);
 
+// Variance of the Eq. 9 residual of a static point p (sensor frame) for the sensor
+// velocity v: sigma_doppler^2 + J Sigma_k J^T with J = v^T (I - d d^T) / |p|, d = p / |p|
+// (Eq. 10-12): only the bearing part of Sigma_k moves the predicted Doppler.
+double dopplerResidualVariance(const Vec3& p, const Vec3& v, const Mat3& point_cov,
+                               double sigma_doppler);
+
 // Quantile of the chi-square distribution with dof degrees of freedom (1 <= dof <= 100):
 // P(X <= x) = p. Used for the consistency threshold.
 double chiSquareQuantile(double p, int dof);

@@ -29,5 +29,10 @@ struct DopplerFit {
 DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_velocity,
                       const DopplerConfig& cfg, const Covariances* point_cov);
 
+// The chi-square test of checkVelocityConsistency on an existing fit: is the sensor
+// velocity v (sensor frame) consistent with the Doppler of the fit's inliers?
+ConsistencyResult testVelocity(const DopplerFit& fit, const Vec3& v, const DopplerConfig& cfg,
+                               const Mat3* sensor_velocity_cov = nullptr);
+
 }  // namespace core
 }  // namespace coral_introspection

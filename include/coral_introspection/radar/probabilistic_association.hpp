@@ -19,13 +19,17 @@ struct ProbabilisticAssociationConfig {
   double gate_sigma = 3.0;         // Mahalanobis gate: sqrt(m^2) <= gate_sigma (3-sigma rule)
   double max_search_radius = 3.0;  // [m] Euclidean cap of the candidate search
   double min_variance = 1e-6;      // [m^2] eigenvalue floor so Sigma_k stays invertible
-  std::string validate() const;    // empty when valid
+  // associateOneToOne only: a query whose second-best candidate has at least this fraction
+  // of the best candidate's density is left unmatched as ambiguous (0 = off, the paper).
+  double ambiguity_ratio = 0.0;
+  std::string validate() const;  // empty when valid
 };
 
 struct ProbabilisticMatch {
   int target = -1;  // index into the landmarks, -1 = none within the gate
   double mahalanobis2 = std::numeric_limits<double>::infinity();  // (l - p)^T Sigma^-1 (l - p)
   double log_density = -std::numeric_limits<double>::infinity();  // ln P_k(l) (Eq. 13)
+  bool ambiguous = false;  // associateOneToOne: rejected by the ambiguity ratio
 };
 
 // ln N(x; mean, sigma) over the first dim coordinates (Eq. 13), eigenvalues floored at
@@ -41,8 +45,14 @@ class ProbabilisticMatcher {
   ProbabilisticMatcher(const Points& landmarks, const ProbabilisticAssociationConfig& cfg);
   // Eq. 14: argmax over landmarks within the gate of P_k(l); target -1 when none.
   ProbabilisticMatch match(const Vec3& p, const Mat3& sigma) const;
+  // Every landmark within the gate of p (Eq. 13 density each), in no particular order.
+  std::vector<ProbabilisticMatch> candidates(const Vec3& p, const Mat3& sigma) const;
 
  private:
+  // Calls fn(landmark index, m^2, ln P_k) for each landmark inside the gate of p.
+  template <class Fn>
+  void forEachInGate(const Vec3& p, const Mat3& sigma, Fn&& fn) const;
+
   ProbabilisticAssociationConfig cfg_;
   std::vector<uint32_t> original_;  // landmark index of each finite (gridded) landmark
   NeighbourGrid grid_;
@@ -55,6 +65,18 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
                                                        const Points& landmarks,
                                                        const ProbabilisticAssociationConfig& cfg,
                                                        std::string* error);
+
+// One-to-one association (Eq. 13-14 with each landmark used once): all query-landmark
+// pairs within the gate, taken in order of decreasing density; a pair is kept when
+// neither its query nor its landmark is taken yet. One result per query (target -1 when
+// it got none). With cfg.ambiguity_ratio > 0, queries with two similarly dense candidates
+// are left out first (ambiguous = true). Empty result and *error on a size mismatch or
+// invalid config.
+std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
+                                                  const Covariances& covariances,
+                                                  const Points& landmarks,
+                                                  const ProbabilisticAssociationConfig& cfg,
+                                                  std::string* error);
 
 }  // namespace core
 }  // namespace coral_introspection

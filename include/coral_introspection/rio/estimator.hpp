@@ -1,0 +1,118 @@
+// The sliding-window radar-inertial odometry of the second paper (Sec. III, Eq. 2): per
+// radar frame a state x_i, IMU preintegration between frames, Doppler residuals of the
+// static points and point-to-landmark residuals, both weighted by the polar point
+// uncertainty; probability-guided one-to-one association; a marginalisation prior when
+// the window slides; zero-velocity and gyro-bias updates on standing frames; failed or
+// diverging solves detected and reset. ROS-free: feed IMU samples and radar frames in
+// time order, read the reports and the state.
+#pragma once
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/rio/config.hpp"
+#include "coral_introspection/rio/front_end.hpp"
+#include "coral_introspection/rio/initializer.hpp"
+#include "coral_introspection/rio/marginalization.hpp"
+#include "coral_introspection/rio/tracks.hpp"
+
+namespace coral_introspection {
+namespace rio {
+
+enum class FrameStatus { kInitializing, kTracking, kReset, kRejected };
+const char* toString(FrameStatus s);
+
+// What happened to one radar frame.
+struct FrameReport {
+  double t = 0.0;
+  FrameStatus status = FrameStatus::kInitializing;
+  NavState state;  // newest state after the solve (valid unless kInitializing / kRejected)
+  bool standing = false, moving_start = false;
+  int points = 0, static_points = 0, matched = 0, created = 0, map_matched = 0;
+  int landmarks = 0, map_points = 0, point_residuals = 0, doppler_residuals = 0, outliers = 0;
+  int iterations = 0;
+  double final_cost = 0.0, solve_ms = 0.0;
+  bool has_covariance = false;
+  Eigen::Matrix<double, 15, 15> covariance;  // [dp, dtheta (body), dv, dba, dbg] when asked
+  std::string message;                       // why a frame was rejected or the window reset
+};
+
+// Counters for diagnostics (monotonic since construction).
+struct RioCounters {
+  long frames = 0, tracked = 0, resets = 0, failed_solves = 0, rejected_frames = 0;
+  long imu_out_of_order = 0, time_jumps = 0, imu_gaps = 0, empty_scans = 0, no_doppler = 0;
+  long standing_frames = 0;
+};
+
+class Estimator {
+ public:
+  // Precondition: cfg.validate() is empty (adapters validate and report first).
+  explicit Estimator(const RioConfig& cfg);
+  ~Estimator();
+
+  // Feed in time order. Returns the reports of the radar frames processed by this call (a
+  // frame waits until the IMU covers its time).
+  std::vector<FrameReport> addImu(const ImuSample& s);
+  std::vector<FrameReport> addRadar(RadarFrame frame);
+
+  // When true, each tracked frame's report carries the newest state's covariance.
+  void setComputeCovariance(bool on) { compute_covariance_ = on; }
+  void reset();  // back to initialisation (everything forgotten)
+
+  bool initialized() const { return !window_.empty(); }
+  NavState latest() const;  // newest window state
+  std::vector<NavState> windowStates() const;
+  Points landmarkPositions() const;  // landmarks and map points, world frame
+  const RioCounters& counters() const { return counters_; }
+  const RioConfig& config() const { return cfg_; }
+
+ private:
+  struct WindowFrame;
+  struct FactorRef {
+    std::shared_ptr<ceres::CostFunction> cost;
+    std::shared_ptr<ceres::LossFunction> loss;
+    std::vector<double*> blocks;
+  };
+
+  std::vector<FrameReport> drain();
+  FrameReport process(const RadarFrame& f);
+  bool imuInterval(double t0, double t1, std::vector<ImuSample>* out, double* max_gap) const;
+  Eigen::Isometry3d radarPose(const NavState& s) const;
+  Vec3 radarVelocity(const NavState& s, const Vec3& omega) const;
+  void softReset(const NavState& s, double sigma_velocity, const std::string& why,
+                 FrameReport* report);
+  void installStatePrior(const NavState& s, const Vec15& sigma);
+
+  // Window problem (window_solver.cpp).
+  std::vector<FactorRef> unaryFactors(const WindowFrame& f) const;
+  FactorRef imuFactor(const WindowFrame& prev, const WindowFrame& f) const;
+  void trackFactors(const Track& t, std::vector<FactorRef>* out) const;
+  std::vector<FactorRef> pointFactors(int* count) const;
+  bool solve(FrameReport* report);
+  std::string checkHealth(const NavState& predicted) const;
+  void rejectOutliers(FrameReport* report);
+  void slide();
+
+  RioConfig cfg_;
+  StaticInitializer init_;
+  std::deque<ImuSample> imu_;
+  std::deque<RadarFrame> pending_;
+  std::deque<std::unique_ptr<WindowFrame>> window_;
+  std::shared_ptr<ceres::CostFunction> prior_;  // marginalisation prior or initial StatePrior
+  std::vector<double*> prior_blocks_;
+  Tracks tracks_;
+  std::shared_ptr<ceres::LossFunction> loss_;
+  RioCounters counters_;
+  long next_frame_id_ = 0;
+  double last_frame_t_ = -1e300;  // newest radar time seen (processed or initialising)
+  bool compute_covariance_ = false;
+};
+
+}  // namespace rio
+}  // namespace coral_introspection

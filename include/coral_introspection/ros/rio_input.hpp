@@ -1,0 +1,71 @@
+// ROS messages -> inputs of the radar-inertial odometry (rio::Estimator), shared by the
+// offline runner (rio_offline, a bag) and RioNodelet (live topics): sensor_msgs/Imu ->
+// rio::ImuSample, radar PointCloud2 with a radial-velocity field -> rio::RadarFrame,
+// radar time from the header or from a trigger topic matched by sequence number
+// (rio::TriggerMatcher; the TI mmWave driver stamps its scans with zero). Nothing throws:
+// bad messages return false / nothing with a message for a throttled log and a counter.
+#pragma once
+
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+#include "coral_introspection/rio/trigger_matcher.hpp"
+#include "coral_introspection/rio/types.hpp"
+
+namespace coral_introspection {
+namespace ros_adapters {
+
+// The adapter settings: the `ros` group of a rio YAML file (config/rio_ti_mmwave.yaml).
+struct RioInputConfig {
+  std::string imu_topic = "imu";       // rio_offline: bag topic; the nodelet subscribes "imu"
+  std::string radar_topic = "radar";   // rio_offline: bag topic; the nodelet subscribes "radar"
+  std::string trigger_topic = "";      // rio_offline: bag topic; the nodelet "trigger"
+  std::string time_source = "header";  // header | trigger
+  std::string velocity_field = "velocity";  // PointCloud2 field of the radial velocity [m/s]
+  int trigger_seq_offset = 0;               // trigger seq = scan seq + offset
+  std::string validate() const;             // empty when valid
+};
+
+// Reads `node` (the ros group; missing keys keep defaults). False with *error on a bad type
+// or an invalid result.
+bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error);
+
+struct RioInputCounters {
+  long bad_imu = 0, bad_clouds = 0, no_velocity_field = 0, unmatched_scans = 0;
+};
+
+// A radar frame back to a PointCloud2 (float32 x, y, z and the radial velocity under
+// `velocity_field`), e.g. the scan re-stamped with its trigger time for CoralNodelet.
+sensor_msgs::PointCloud2 radarFrameToCloud(const rio::RadarFrame& frame,
+                                           const std_msgs::Header& header,
+                                           const std::string& velocity_field);
+
+class RioInput {
+ public:
+  explicit RioInput(const RioInputConfig& cfg) : cfg_(cfg), matcher_(cfg.trigger_seq_offset) {}
+
+  // False with *error on a non-finite sample or a zero stamp.
+  bool imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string* error);
+  // The radar frames this scan completes (with time_source trigger, a scan waits for its
+  // trigger). A cloud without the radial-velocity field still gives a frame (points only,
+  // no Doppler; the estimator counts it) and *error says why.
+  std::vector<rio::RadarFrame> radar(const sensor_msgs::PointCloud2& msg, std::string* error);
+  std::vector<rio::RadarFrame> trigger(const std_msgs::Header& msg);
+  bool usesTrigger() const { return cfg_.time_source == "trigger"; }
+  const RioInputCounters& counters() const { return counters_; }
+  long waitingScans() const { return static_cast<long>(matcher_.waiting()); }
+  void reset() { matcher_.clear(); }
+
+ private:
+  RioInputConfig cfg_;
+  rio::TriggerMatcher matcher_;
+  RioInputCounters counters_;
+};
+
+}  // namespace ros_adapters
+}  // namespace coral_introspection

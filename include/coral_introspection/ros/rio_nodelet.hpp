@@ -1,0 +1,70 @@
+// RioNodelet: the radar-inertial odometry (rio::Estimator) on live topics. Thin: converts
+// inputs with ros/rio_input.hpp, feeds the estimator, publishes what it reports.
+//   in:  radar (sensor_msgs/PointCloud2 with a radial-velocity field), imu (sensor_msgs/Imu),
+//        trigger (std_msgs/Header, when the config's ros/time_source is trigger)
+//   out: odometry (nav_msgs/Odometry with covariance), TF odom_frame -> base_frame, path
+//        (nav_msgs/Path), landmarks (PointCloud2, odom frame), radar_stamped (each radar
+//        frame with its measurement time and frame radar_frame when the cloud has none:
+//        the TI driver's scans carry neither, CoralNodelet needs both), /diagnostics
+#pragma once
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <nav_msgs/Path.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/rio/estimator.hpp"
+#include "coral_introspection/ros/rio_input.hpp"
+
+namespace coral_introspection {
+
+class RioNodelet : public nodelet::Nodelet {
+ private:
+  struct Counters {
+    long imu = 0, scans = 0, triggers = 0, frames = 0, tracked = 0, errors = 0;
+  };
+
+  void onInit() override;
+  template <class F>
+  void guarded(const char* what, F&& f) noexcept;
+
+  void imuCb(const sensor_msgs::ImuConstPtr& msg);
+  void radarCb(const sensor_msgs::PointCloud2ConstPtr& msg);
+  void triggerCb(const std_msgs::HeaderConstPtr& msg);
+  // Called with mutex_ held.
+  void handle(const std::vector<rio::FrameReport>& reports);
+  void publish(const rio::FrameReport& r);
+  void feedRadar(rio::RadarFrame f);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  std::mutex mutex_;
+  std::string config_error_;  // non-empty: invalid configuration, nothing subscribed
+  std::string odom_frame_ = "odom", base_frame_ = "base_link", radar_frame_ = "radar";
+  std::string velocity_field_ = "velocity";
+  double radar_time_offset_ = 0.0;
+  bool publish_tf_ = true;
+  int max_path_length_ = 10000;
+  std::unique_ptr<rio::Estimator> estimator_;
+  std::unique_ptr<ros_adapters::RioInput> input_;
+  Counters counters_;
+  std::string last_problem_, last_message_;
+  rio::FrameStatus last_status_ = rio::FrameStatus::kInitializing;
+  nav_msgs::Path path_;
+
+  ros::Subscriber imu_sub_, radar_sub_, trigger_sub_;
+  ros::Publisher odom_pub_, path_pub_, landmarks_pub_, stamped_pub_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
+  std::shared_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer timer_;
+};
+
+}  // namespace coral_introspection

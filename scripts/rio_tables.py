@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Tables I and II of the point-uncertainty paper for the radar-inertial odometry.
+
+Table I: full uncertainty model vs none / without its range part / without its bearing part
+(uncertainty/mode). Table II: every point covariance scaled by 2^alpha, alpha = -3..3
+(uncertainty/covariance_scale). Simulated sequences (coral_rio_simulate, ground truth: APE /
+RPE RMSE) and the TI loop (rio_offline on the bag: end-point error, no ground truth).
+
+  scripts/rio_tables.py --bin $CORAL_WS/devel/lib/coral_introspection \
+      [--bag ../shared/data/ti_mmwave_demo/ti_mmwave_rospkg_demo.bag] [--work /tmp/rio_tables]
+Prints Markdown (the tables of doc/rio.md).
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIMS = [("handheld", 1), ("handheld", 2), ("vehicle", 1), ("vehicle", 2)]
+MODES = [("full", "full model"), ("none", "no uncertainty model"),
+         ("no_range", "without range part"), ("no_bearing", "without bearing part")]
+FLOAT = r"([-+0-9.eE]+|nan|inf)"
+
+
+def run(cmd):
+    out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if out.returncode != 0:
+        sys.exit("failed: %s\n%s" % (" ".join(cmd), out.stdout))
+    return out.stdout
+
+
+def sim_metrics(args, seq, kind, sets):
+    cmd = [os.path.join(args.bin, "coral_rio_run"), "--sequence", seq, "--config",
+           os.path.join(REPO, "config", "rio_sim_%s.yaml" % kind)]
+    for s in sets:
+        cmd += ["--set", s]
+    out = run(cmd)
+    m = re.search(r"APE RMSE: %s m, %s deg; RPE RMSE: %s m, %s deg" % ((FLOAT,) * 4), out)
+    return "%.3f / %.4f" % (float(m.group(1)), float(m.group(3))) if m else "fail"
+
+
+def ti_metrics(args, sets):
+    config = os.path.join(REPO, "config", "rio_ti_mmwave.yaml")
+    if args.bag:
+        cmd = [args.rio_offline, "--bag", args.bag, "--config", config, "--output",
+               os.path.join(args.work, "ti.tum")]
+    else:  # the bag converted to a text sequence (trigger times already applied)
+        cmd = [os.path.join(args.bin, "coral_rio_run"), "--sequence", args.ti_sequence,
+               "--config", config, "--loop"]
+    for s in sets:
+        cmd += ["--set", s]
+    out = run(cmd)
+    m = re.search(r"horizontal %s m, vertical %s m, yaw %s deg" % ((FLOAT,) * 3), out)
+    return "%.3f / %.2f" % (float(m.group(1)), abs(float(m.group(3)))) if m else "fail"
+
+
+def table(args, seqs, rows):
+    head = ["setting"] + ["%s %d (APE / RPE m)" % (k, s) for k, s in SIMS]
+    if args.bag or args.ti_sequence:
+        head.append("TI loop (end-point m / yaw deg)")
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for label, sets in rows:
+        cells = [label] + [sim_metrics(args, seq, k, sets) for (k, _), seq in zip(SIMS, seqs)]
+        if args.bag or args.ti_sequence:
+            cells.append(ti_metrics(args, sets))
+        lines.append("| " + " | ".join(cells) + " |")
+        print(lines[-1], file=sys.stderr)
+    return "\n".join(lines)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--bin", required=True, help="directory of coral_rio_simulate / coral_rio_run")
+    p.add_argument("--rio-offline", default="", help="rio_offline (default: --bin/rio_offline)")
+    p.add_argument("--bag", default="", help="the TI bag; empty = simulated sequences only")
+    p.add_argument("--ti-sequence", default="",
+                   help="instead of --bag: the TI bag as a coral_rio_run text sequence")
+    p.add_argument("--work", default="/tmp/rio_tables")
+    args = p.parse_args()
+    args.rio_offline = args.rio_offline or os.path.join(args.bin, "rio_offline")
+    os.makedirs(args.work, exist_ok=True)
+    seqs = []
+    for kind, seed in SIMS:
+        seq = os.path.join(args.work, "%s_%d.seq" % (kind, seed))
+        run([os.path.join(args.bin, "coral_rio_simulate"), "--trajectory", kind, "--seed",
+             str(seed), "--output", seq])
+        seqs.append(seq)
+    print("### Table I: uncertainty model ablation\n")
+    print(table(args, seqs, [(label, ["uncertainty/mode=" + m]) for m, label in MODES]))
+    print("\n### Table II: point covariances scaled by 2^alpha\n")
+    print(table(args, seqs, [("alpha = %+d" % a, ["uncertainty/covariance_scale=%g" % 2.0 ** a])
+                             for a in range(-3, 4)]))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,333 @@
+#include "coral_introspection/rio/estimator.hpp"
+
+#include <algorithm>
+
+#include "coral_introspection/rio/prior_factors.hpp"
+#include "window_frame.hpp"
+
+namespace coral_introspection {
+namespace rio {
+
+const char* toString(FrameStatus s) {
+  switch (s) {
+    case FrameStatus::kInitializing:
+      return "initializing";
+    case FrameStatus::kTracking:
+      return "tracking";
+    case FrameStatus::kReset:
+      return "reset";
+    case FrameStatus::kRejected:
+      return "rejected";
+  }
+  return "?";
+}
+
+Estimator::Estimator(const RioConfig& cfg) : cfg_(cfg), init_(cfg) {
+  if (cfg_.solver.loss == "huber")
+    loss_ = std::make_shared<ceres::HuberLoss>(cfg_.solver.loss_scale);
+  else if (cfg_.solver.loss == "cauchy")
+    loss_ = std::make_shared<ceres::CauchyLoss>(cfg_.solver.loss_scale);
+}
+
+Estimator::~Estimator() = default;
+
+void Estimator::reset() {
+  init_.reset();
+  imu_.clear();
+  pending_.clear();
+  window_.clear();
+  prior_.reset();
+  prior_blocks_.clear();
+  tracks_.clear();
+  last_frame_t_ = -1e300;
+}
+
+NavState Estimator::latest() const {
+  return window_.empty() ? NavState() : window_.back()->state();
+}
+
+std::vector<NavState> Estimator::windowStates() const {
+  std::vector<NavState> out;
+  for (const auto& f : window_) out.push_back(f->state());
+  return out;
+}
+
+Points Estimator::landmarkPositions() const {
+  Points out;
+  for (const auto& [id, t] : tracks_.all())
+    if (t.landmark || t.fixed) out.push_back(t.position);
+  return out;
+}
+
+Eigen::Isometry3d Estimator::radarPose(const NavState& s) const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = s.q.toRotationMatrix() * cfg_.extrinsics.R;
+  T.translation() = s.p + s.q * cfg_.extrinsics.t;
+  return T;
+}
+
+Vec3 Estimator::radarVelocity(const NavState& s, const Vec3& omega) const {
+  // Eq. 9's K: R_E^T (R^T v + (omega - b_g)^ t_E).
+  return cfg_.extrinsics.R.transpose() *
+         (s.q.conjugate() * s.v + (omega - s.bg).cross(cfg_.extrinsics.t));
+}
+
+std::vector<FrameReport> Estimator::addImu(const ImuSample& s) {
+  if (!imu_.empty() && s.t <= imu_.back().t) {
+    if (imu_.back().t - s.t > 1.0) {  // a new sequence (bag restarted): start over
+      ++counters_.time_jumps;
+      reset();
+    } else {
+      ++counters_.imu_out_of_order;
+      return {};
+    }
+  }
+  if (!s.acc.allFinite() || !s.gyro.allFinite()) {
+    ++counters_.imu_out_of_order;
+    return {};
+  }
+  imu_.push_back(s);
+  return drain();
+}
+
+std::vector<FrameReport> Estimator::addRadar(RadarFrame frame) {
+  frame.t += cfg_.radar_time_offset;
+  std::vector<FrameReport> out;
+  if (frame.t <= last_frame_t_) {
+    FrameReport r;
+    r.t = frame.t;
+    r.status = FrameStatus::kRejected;
+    ++counters_.rejected_frames;
+    if (last_frame_t_ - frame.t > 1.0) {
+      ++counters_.time_jumps;
+      r.message = "radar time jumped back by more than 1 s: restarting";
+      reset();
+    } else {
+      r.message = "radar frame not newer than the previous one: dropped";
+    }
+    out.push_back(r);
+    if (frame.t <= last_frame_t_) return out;
+  }
+  last_frame_t_ = frame.t;
+  pending_.push_back(std::move(frame));
+  while (pending_.size() > 50) {  // no IMU for a long time: forget the oldest frames
+    FrameReport r;
+    r.t = pending_.front().t;
+    r.status = FrameStatus::kRejected;
+    r.message = "no IMU data covering the radar frame";
+    ++counters_.rejected_frames;
+    out.push_back(r);
+    pending_.pop_front();
+  }
+  for (FrameReport& r : drain()) out.push_back(std::move(r));
+  return out;
+}
+
+std::vector<FrameReport> Estimator::drain() {
+  std::vector<FrameReport> out;
+  while (!pending_.empty() && !imu_.empty() && imu_.back().t >= pending_.front().t) {
+    out.push_back(process(pending_.front()));
+    pending_.pop_front();
+  }
+  // Keep the IMU samples the next interval needs (from the newest frame on).
+  const double keep_from =
+      window_.empty() ? imu_.empty() ? 0.0 : imu_.back().t - 2.0 : window_.back()->t;
+  while (imu_.size() > 2 && imu_[1].t <= keep_from) imu_.pop_front();
+  return out;
+}
+
+bool Estimator::imuInterval(double t0, double t1, std::vector<ImuSample>* out,
+                            double* max_gap) const {
+  out->clear();
+  *max_gap = 0.0;
+  if (imu_.empty() || imu_.front().t > t0 || imu_.back().t < t1) return false;
+  auto lerp = [](const ImuSample& a, const ImuSample& b, double t) {
+    const double u = b.t > a.t ? (t - a.t) / (b.t - a.t) : 0.0;
+    return ImuSample{t, a.acc + u * (b.acc - a.acc), a.gyro + u * (b.gyro - a.gyro)};
+  };
+  // Interpolated samples at both ends, the measured ones strictly inside.
+  for (std::size_t k = 1; k < imu_.size(); ++k) {
+    const ImuSample &a = imu_[k - 1], &b = imu_[k];
+    if (b.t < t0 || a.t > t1) continue;
+    *max_gap = std::max(*max_gap, b.t - a.t);
+    if (out->empty()) out->push_back(lerp(a, b, t0));
+    if (b.t < t1) out->push_back(b);
+    if (b.t >= t1) {
+      out->push_back(lerp(a, b, t1));
+      break;
+    }
+  }
+  return out->size() >= 2;
+}
+
+FrameReport Estimator::process(const RadarFrame& f) {
+  ++counters_.frames;
+  FrameReport report;
+  report.t = f.t;
+  if (f.points.empty()) ++counters_.empty_scans;
+  if (!f.points.empty() && f.radial_velocity.size() != f.points.size()) ++counters_.no_doppler;
+
+  std::vector<ImuSample> interval;
+  double gap = 0.0;
+  const double t_prev = window_.empty() ? f.t - 0.1 : window_.back()->t;
+  const bool have_imu = imuInterval(std::max(t_prev, imu_.front().t), f.t, &interval, &gap);
+
+  if (window_.empty()) {  // initialisation from a static start
+    const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
+    NavState x;
+    bool moving = false;
+    const Vec3* v = fe.doppler_fit ? &fe.v_radar : nullptr;
+    if (!have_imu || !init_.addFrame(f.t, interval, fe.has_doppler, fe.standing, v, &x, &moving)) {
+      report.status = FrameStatus::kInitializing;
+      const ImuStats st = imuStats(interval);
+      report.message = "waiting for a static start (IMU rate std " +
+                       std::to_string(st.gyro_std.maxCoeff()) + " rad/s, specific force std " +
+                       std::to_string(st.acc_std.maxCoeff()) + " m/s^2, Doppler " +
+                       (!fe.has_doppler   ? std::string("none")
+                        : !fe.doppler_fit ? std::string("no consensus")
+                                          : std::to_string(fe.v_radar.norm()) + " m/s") +
+                       ")";
+      return report;
+    }
+    x.t = f.t;
+    auto w = std::make_unique<WindowFrame>();
+    w->id = next_frame_id_++;
+    w->t = f.t;
+    toBlocks(x, &w->x);
+    w->omega = interval.back().gyro;
+    w->standing = fe.standing;
+    window_.push_back(std::move(w));
+    const InitConfig& ic = cfg_.init;
+    Vec15 sigma;
+    sigma << Vec3::Constant(ic.sigma_position), ic.sigma_roll_pitch, ic.sigma_roll_pitch,
+        ic.sigma_yaw, Vec3::Constant(moving ? 0.5 : ic.sigma_velocity),
+        Vec3::Constant(ic.sigma_acc_bias), Vec3::Constant(ic.sigma_gyro_bias);
+    installStatePrior(x, sigma);
+    report.status = FrameStatus::kTracking;
+    report.state = x;
+    report.moving_start = moving;
+    report.message =
+        moving ? "started without a static interval" : "initialised from a static start";
+    return report;
+  }
+
+  const WindowFrame& prev = *window_.back();
+  NavState prev_state = prev.state();
+  if (!have_imu || gap > cfg_.health.max_imu_gap) {
+    ++counters_.imu_gaps;
+    const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
+    NavState x = prev_state;
+    x.t = f.t;
+    double sigma_v = 1.0;
+    if (fe.doppler_fit) {
+      x.v = x.q * (cfg_.extrinsics.R * fe.v_radar);
+      sigma_v = 0.2;
+    }
+    report.status = FrameStatus::kReset;
+    softReset(x, sigma_v, "IMU gap of " + std::to_string(gap) + " s before the radar frame",
+              &report);
+    return report;
+  }
+
+  auto w = std::make_unique<WindowFrame>();
+  w->id = next_frame_id_++;
+  w->t = f.t;
+  w->pre =
+      std::make_unique<Preintegration>(interval.front(), prev_state.ba, prev_state.bg, cfg_.imu);
+  for (std::size_t k = 1; k < interval.size(); ++k) w->pre->push(interval[k]);
+  NavState pred = w->pre->predict(prev_state);
+  pred.t = f.t;
+  toBlocks(pred, &w->x);
+  w->omega = interval.back().gyro;
+  const Vec3 v_pred = radarVelocity(pred, w->omega);
+  const FrontEndResult fe = processRadarFrame(f, cfg_, &v_pred);
+  for (int k : fe.static_points) w->static_points.push_back(fe.points[k]);
+  w->standing = cfg_.zero_velocity.enabled && fe.standing;
+  const ImuStats st = imuStats(interval);
+  w->gyro_still = w->standing && st.n >= cfg_.zero_velocity.min_gyro_samples &&
+                  st.gyro_std.maxCoeff() < cfg_.zero_velocity.max_gyro_std &&
+                  (st.gyro_mean - prev_state.bg).norm() < cfg_.zero_velocity.max_gyro_rate;
+  w->gyro_mean = st.gyro_mean;
+  w->gyro_sigma = cfg_.imu.gyro_noise / std::sqrt(std::max(st.duration, 1e-3));
+  counters_.standing_frames += w->standing;
+  report.points = static_cast<int>(fe.points.size());
+  report.static_points = static_cast<int>(w->static_points.size());
+  report.standing = w->standing;
+
+  // Probability-guided association of the static points (Sec. III-D).
+  if (cfg_.solver.use_points && !w->static_points.empty()) {
+    Points pts;
+    core::Covariances covs;
+    std::vector<Mat3> W;
+    for (const RadarPoint& rp : w->static_points) {
+      pts.push_back(rp.p);
+      covs.push_back(rp.cov);
+      W.push_back(whitening3(rp.cov, cfg_.uncertainty.min_variance));
+    }
+    auto pose_of = [this](long id) {
+      for (const auto& fr : window_)
+        if (fr->id == id) return radarPose(fr->state());
+      return Eigen::Isometry3d::Identity();  // not reached: tracks only hold window frames
+    };
+    window_.push_back(std::move(w));
+    const Tracks::Stats s = tracks_.associate(window_.back()->id, pts, covs, W, radarPose(pred),
+                                              pose_of, cfg_.association);
+    report.matched = s.matched;
+    report.created = s.created;
+    report.map_matched = s.map_matched;
+    tracks_.promote(cfg_.association.min_observations, pose_of);
+  } else {
+    window_.push_back(std::move(w));
+  }
+
+  std::vector<NavState> before;
+  for (const auto& fr : window_) before.push_back(fr->state());
+  const bool solved = solve(&report);
+  const std::string problem = solved ? checkHealth(pred) : "the solver failed";
+  if (!problem.empty()) {
+    ++counters_.failed_solves;
+    for (std::size_t k = 0; k < window_.size(); ++k) toBlocks(before[k], &window_[k]->x);
+    report.status = FrameStatus::kReset;
+    softReset(pred, 0.5, problem, &report);
+    return report;
+  }
+  rejectOutliers(&report);
+  report.state = window_.back()->state();
+  report.status = FrameStatus::kTracking;
+  report.landmarks = tracks_.numLandmarks();
+  report.map_points = tracks_.numMapPoints();
+  ++counters_.tracked;
+  slide();
+  return report;
+}
+
+void Estimator::installStatePrior(const NavState& s, const Vec15& sigma) {
+  prior_ = std::make_shared<StatePrior>(s, Mat15(sigma.cwiseInverse().asDiagonal()));
+  prior_blocks_ = {window_.back()->x.pose, window_.back()->x.speed_bias};
+}
+
+void Estimator::softReset(const NavState& s, double sigma_velocity, const std::string& why,
+                          FrameReport* report) {
+  // Keep the newest frame (at state s) as the only window frame, forget tracks and prior,
+  // and anchor it with a prior: pose where it is (continuity of the odometry frame; roll
+  // and pitch looser, gravity re-observes them), velocity and biases as given.
+  std::unique_ptr<WindowFrame> last = std::move(window_.back());
+  window_.clear();
+  tracks_.clear();
+  last->t = s.t;
+  last->pre.reset();
+  toBlocks(s, &last->x);
+  last->static_points.clear();
+  last->standing = last->gyro_still = false;
+  window_.push_back(std::move(last));
+  ++counters_.resets;
+  Vec15 sigma;
+  sigma << Vec3::Constant(1e-3), 0.02, 0.02, 1e-3, Vec3::Constant(sigma_velocity),
+      Vec3::Constant(cfg_.init.sigma_acc_bias), Vec3::Constant(cfg_.init.sigma_gyro_bias);
+  installStatePrior(s, sigma);
+  report->state = s;
+  report->message = why;
+}
+
+}  // namespace rio
+}  // namespace coral_introspection

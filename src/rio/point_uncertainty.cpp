@@ -1,0 +1,41 @@
+#include "coral_introspection/rio/point_uncertainty.hpp"
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace rio {
+
+Mat3 pointCovariance(const Vec3& p, const UncertaintyConfig& cfg) {
+  const double iso2 = cfg.isotropic_sigma * cfg.isotropic_sigma;
+  const double r = p.norm();
+  if (cfg.mode == UncertaintyMode::kNone || !(r > 1e-9))
+    return cfg.covariance_scale * iso2 * Mat3::Identity();
+  const Vec3 d = p / r;
+  const Mat3 along = d * d.transpose();
+  Mat3 S;
+  switch (cfg.mode) {
+    case UncertaintyMode::kFull:
+      S = core::pointCovariance(p, cfg.noise, 3);
+      break;
+    case UncertaintyMode::kNoRange: {
+      core::RadarNoiseConfig bearing_only = cfg.noise;
+      bearing_only.sigma_range = 0.0;  // Eq. 8 without its range term
+      S = core::pointCovariance(p, bearing_only, 3) + iso2 * along;
+      break;
+    }
+    case UncertaintyMode::kNoBearing:
+    default:
+      S = cfg.noise.sigma_range * cfg.noise.sigma_range * along + iso2 * (Mat3::Identity() - along);
+      break;
+  }
+  return cfg.covariance_scale * S;
+}
+
+double dopplerVariance(const Vec3& p, const Vec3& v_radar, const UncertaintyConfig& cfg) {
+  if (cfg.mode == UncertaintyMode::kNone)
+    return cfg.doppler_sigma_isotropic * cfg.doppler_sigma_isotropic;
+  return core::dopplerResidualVariance(p, v_radar, pointCovariance(p, cfg), cfg.sigma_doppler);
+}
+
+}  // namespace rio
+}  // namespace coral_introspection

@@ -1,0 +1,34 @@
+// One radar frame inside the estimator's window (private to estimator*.cpp).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "coral_introspection/rio/estimator.hpp"
+#include "coral_introspection/rio/preintegration.hpp"
+
+namespace coral_introspection {
+namespace rio {
+
+struct Estimator::WindowFrame {
+  long id = 0;
+  double t = 0.0;
+  StateBlocks x;                          // the Ceres parameter blocks
+  std::unique_ptr<Preintegration> pre;    // previous frame -> this one (null for the first)
+  Vec3 omega = Vec3::Zero();              // raw gyro rate at t (lever arm of Eq. 9)
+  std::vector<RadarPoint> static_points;  // Doppler residuals (Sec. III-C)
+  bool standing = false;                  // Doppler: zero velocity
+  bool gyro_still = false;                // standing and the IMU did not rotate
+  Vec3 gyro_mean = Vec3::Zero();          // mean raw rate of the interval before t
+  double gyro_sigma = 0.0;                // [rad/s] of gyro_mean as a bias measurement
+
+  NavState state() const {
+    NavState s;
+    fromBlocks(x, &s);
+    s.t = t;
+    return s;
+  }
+};
+
+}  // namespace rio
+}  // namespace coral_introspection

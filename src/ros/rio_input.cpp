@@ -1,0 +1,117 @@
+#include "coral_introspection/ros/rio_input.hpp"
+
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <cmath>
+
+#include "coral_introspection/coral/validation.hpp"
+#include "coral_introspection/ros/conversions.hpp"
+
+namespace coral_introspection {
+namespace ros_adapters {
+
+std::string RioInputConfig::validate() const {
+  return core::Problems()
+      .require(time_source == "header" || time_source == "trigger", "time_source",
+               "header or trigger", time_source)
+      .require(!velocity_field.empty(), "velocity_field", "a field name", velocity_field)
+      .require(time_source != "trigger" || !trigger_topic.empty(), "trigger_topic",
+               "set when time_source is trigger", trigger_topic)
+      .str();
+}
+
+bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error) {
+  try {
+    if (node && node.IsMap()) {
+      auto get = [&](const char* key, auto* value) {
+        if (node[key]) *value = node[key].as<std::decay_t<decltype(*value)>>();
+      };
+      get("imu_topic", &cfg->imu_topic);
+      get("radar_topic", &cfg->radar_topic);
+      get("trigger_topic", &cfg->trigger_topic);
+      get("time_source", &cfg->time_source);
+      get("velocity_field", &cfg->velocity_field);
+      get("trigger_seq_offset", &cfg->trigger_seq_offset);
+    }
+  } catch (const YAML::Exception& e) {
+    *error = std::string("ros group: ") + e.what();
+    return false;
+  }
+  *error = cfg->validate();
+  return error->empty();
+}
+
+bool RioInput::imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string* error) {
+  out->t = msg.header.stamp.toSec();
+  out->acc =
+      rio::Vec3(msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z);
+  out->gyro = rio::Vec3(msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z);
+  if (!(out->t > 0.0) || !out->acc.allFinite() || !out->gyro.allFinite()) {
+    ++counters_.bad_imu;
+    *error = "IMU sample with a zero stamp or a non-finite value dropped";
+    return false;
+  }
+  return true;
+}
+
+std::vector<rio::RadarFrame> RioInput::radar(const sensor_msgs::PointCloud2& msg,
+                                             std::string* error) {
+  error->clear();
+  rio::RadarFrame f;
+  f.t = msg.header.stamp.toSec();
+  if (hasField(msg, cfg_.velocity_field)) {
+    if (!cloudToPoints(msg, &f.points, error, nullptr, cfg_.velocity_field, &f.radial_velocity)) {
+      ++counters_.bad_clouds;
+      return {};
+    }
+  } else {
+    ++counters_.no_velocity_field;
+    if (!cloudToPoints(msg, &f.points, error)) {
+      ++counters_.bad_clouds;
+      return {};
+    }
+    *error = "radar cloud has no radial-velocity field '" + cfg_.velocity_field +
+             "': points used without Doppler";
+  }
+  if (!usesTrigger()) {
+    if (!(f.t > 0.0)) {
+      ++counters_.bad_clouds;
+      *error = "radar cloud with a zero stamp (set time_source: trigger?) dropped";
+      return {};
+    }
+    return {std::move(f)};
+  }
+  const long before = matcher_.dropped();
+  std::vector<rio::RadarFrame> out = matcher_.addScan(msg.header.seq, std::move(f));
+  counters_.unmatched_scans += matcher_.dropped() - before;
+  return out;
+}
+
+std::vector<rio::RadarFrame> RioInput::trigger(const std_msgs::Header& msg) {
+  return matcher_.addTrigger(msg.seq, msg.stamp.toSec());
+}
+
+sensor_msgs::PointCloud2 radarFrameToCloud(const rio::RadarFrame& frame,
+                                           const std_msgs::Header& header,
+                                           const std::string& velocity_field) {
+  sensor_msgs::PointCloud2 c;
+  c.header = header;
+  sensor_msgs::PointCloud2Modifier mod(c);
+  mod.setPointCloud2Fields(4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1,
+                           sensor_msgs::PointField::FLOAT32, "z", 1,
+                           sensor_msgs::PointField::FLOAT32, velocity_field.c_str(), 1,
+                           sensor_msgs::PointField::FLOAT32);
+  mod.resize(frame.points.size());
+  const bool has_v = frame.radial_velocity.size() == frame.points.size();
+  sensor_msgs::PointCloud2Iterator<float> x(c, "x"), y(c, "y"), z(c, "z"), v(c, velocity_field);
+  for (std::size_t i = 0; i < frame.points.size(); ++i, ++x, ++y, ++z, ++v) {
+    *x = static_cast<float>(frame.points[i].x());
+    *y = static_cast<float>(frame.points[i].y());
+    *z = static_cast<float>(frame.points[i].z());
+    *v = has_v ? static_cast<float>(frame.radial_velocity[i]) : 0.0f;
+  }
+  return c;
+}
+
+}  // namespace ros_adapters
+}  // namespace coral_introspection

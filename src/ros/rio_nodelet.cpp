@@ -1,0 +1,272 @@
+#include "coral_introspection/ros/rio_nodelet.hpp"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <pluginlib/class_list_macros.hpp>
+
+#include "coral_introspection/rio/config_yaml.hpp"
+#include "coral_introspection/ros/conversions.hpp"
+
+namespace coral_introspection {
+
+template <class F>
+void RioNodelet::guarded(const char* what, F&& f) noexcept {
+  try {
+    std::string error;
+    try {
+      f();
+      return;
+    } catch (const std::exception& e) {
+      error = e.what();
+    } catch (...) {
+      error = "unknown exception";
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.errors;
+    last_problem_ = std::string(what) + " failed: " + error;
+    NODELET_ERROR_THROTTLE(5.0, "%s", last_problem_.c_str());
+  } catch (...) {
+  }
+}
+
+void RioNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  std::string config_file;
+  pnh.param<std::string>("config_file", config_file, "");
+  pnh.param<std::string>("odom_frame", odom_frame_, odom_frame_);
+  pnh.param<std::string>("base_frame", base_frame_, base_frame_);
+  pnh.param<std::string>("radar_frame", radar_frame_, radar_frame_);
+  pnh.param<bool>("publish_tf", publish_tf_, publish_tf_);
+  pnh.param<int>("max_path_length", max_path_length_, max_path_length_);
+
+  updater_ = std::make_shared<diagnostic_updater::Updater>(nh, pnh);
+  updater_->setHardwareID("rio");
+  // Several nodelets share the manager's node name: the task name says which one.
+  updater_->add(getName() + ": radar-inertial odometry", this, &RioNodelet::diagnose);
+  timer_ = pnh.createWallTimer(ros::WallDuration(1.0),
+                               [this](const ros::WallTimerEvent&) { updater_->update(); });
+
+  rio::RioConfig cfg;
+  ros_adapters::RioInputConfig in_cfg;
+  std::string err;
+  std::vector<std::string> warnings;
+  YAML::Node root;
+  try {
+    if (!config_file.empty()) root = YAML::LoadFile(config_file);
+  } catch (const YAML::Exception& e) {
+    err = "cannot read config_file " + config_file + ": " + e.what();
+  }
+  if (err.empty() && !(rio::loadRioConfig(root, &cfg, &err, &warnings, {"ros"}) &&
+                       ros_adapters::loadRioInputConfig(root["ros"], &in_cfg, &err)))
+    err = "invalid config " + config_file + ": " + err;
+  std::string time_source;  // optional override of the config's ros/time_source
+  if (err.empty() && pnh.getParam("time_source", time_source)) {
+    in_cfg.time_source = time_source;
+    err = in_cfg.validate();
+  }
+  if (err.empty() && (odom_frame_.empty() || base_frame_.empty() || max_path_length_ < 1))
+    err = "odom_frame and base_frame must be set and max_path_length >= 1";
+  if (!err.empty()) {
+    config_error_ = err;
+    NODELET_ERROR("%s; the odometry does not run", err.c_str());
+    return;
+  }
+  for (const std::string& w : warnings) NODELET_WARN("%s", w.c_str());
+  estimator_ = std::make_unique<rio::Estimator>(cfg);
+  estimator_->setComputeCovariance(true);
+  input_ = std::make_unique<ros_adapters::RioInput>(in_cfg);
+  path_.header.frame_id = odom_frame_;
+  velocity_field_ = in_cfg.velocity_field;
+  radar_time_offset_ = cfg.radar_time_offset;
+  tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+
+  odom_pub_ = nh.advertise<nav_msgs::Odometry>("odometry", 50);
+  path_pub_ = nh.advertise<nav_msgs::Path>("path", 1);
+  landmarks_pub_ = nh.advertise<sensor_msgs::PointCloud2>("landmarks", 1);
+  stamped_pub_ = nh.advertise<sensor_msgs::PointCloud2>("radar_stamped", 10);
+  // The odometry needs every input from the start: no lazy subscription of the inputs.
+  imu_sub_ =
+      nh.subscribe("imu", 2000, &RioNodelet::imuCb, this, ros::TransportHints().tcpNoDelay());
+  radar_sub_ = nh.subscribe("radar", 50, &RioNodelet::radarCb, this);
+  if (input_->usesTrigger())
+    trigger_sub_ = nh.subscribe("trigger", 50, &RioNodelet::triggerCb, this);
+  NODELET_INFO("rio: config %s, radar time from %s", config_file.c_str(),
+               in_cfg.time_source.c_str());
+}
+
+void RioNodelet::imuCb(const sensor_msgs::ImuConstPtr& msg) {
+  guarded("IMU callback", [&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.imu;
+    rio::ImuSample s;
+    std::string err;
+    if (!input_->imu(*msg, &s, &err)) {
+      last_problem_ = err;
+      NODELET_WARN_THROTTLE(5.0, "%s", err.c_str());
+      return;
+    }
+    handle(estimator_->addImu(s));
+  });
+}
+
+void RioNodelet::radarCb(const sensor_msgs::PointCloud2ConstPtr& msg) {
+  guarded("radar callback", [&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.scans;
+    std::string err;
+    std::vector<rio::RadarFrame> frames = input_->radar(*msg, &err);
+    if (!err.empty()) {
+      last_problem_ = err;
+      NODELET_WARN_THROTTLE(5.0, "%s", err.c_str());
+    }
+    if (!msg->header.frame_id.empty()) radar_frame_ = msg->header.frame_id;
+    for (rio::RadarFrame& f : frames) feedRadar(std::move(f));
+  });
+}
+
+void RioNodelet::triggerCb(const std_msgs::HeaderConstPtr& msg) {
+  guarded("trigger callback", [&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.triggers;
+    for (rio::RadarFrame& f : input_->trigger(*msg)) feedRadar(std::move(f));
+  });
+}
+
+void RioNodelet::feedRadar(rio::RadarFrame f) {
+  if (f.points.empty()) NODELET_WARN_THROTTLE(5.0, "empty radar scan at %.3f s", f.t);
+  if (stamped_pub_.getNumSubscribers() > 0 && f.t + radar_time_offset_ > 0.0) {
+    std_msgs::Header h;
+    h.stamp = ros::Time(f.t + radar_time_offset_);
+    h.frame_id = radar_frame_;
+    stamped_pub_.publish(ros_adapters::radarFrameToCloud(f, h, velocity_field_));
+  }
+  handle(estimator_->addRadar(std::move(f)));
+}
+
+void RioNodelet::handle(const std::vector<rio::FrameReport>& reports) {
+  for (const rio::FrameReport& r : reports) {
+    ++counters_.frames;
+    last_status_ = r.status;
+    if (!r.message.empty()) {
+      last_message_ = r.message;
+      if (r.status == rio::FrameStatus::kReset || r.status == rio::FrameStatus::kRejected)
+        NODELET_WARN_THROTTLE(2.0, "rio %s: %s", rio::toString(r.status), r.message.c_str());
+    }
+    if (r.status == rio::FrameStatus::kTracking || r.status == rio::FrameStatus::kReset) {
+      ++counters_.tracked;
+      publish(r);
+    }
+  }
+}
+
+void RioNodelet::publish(const rio::FrameReport& r) {
+  const rio::NavState& s = r.state;
+  const ros::Time stamp(s.t);
+  const Eigen::Matrix3d R = s.q.toRotationMatrix();
+  geometry_msgs::Pose pose;
+  pose.position.x = s.p.x();
+  pose.position.y = s.p.y();
+  pose.position.z = s.p.z();
+  pose.orientation.x = s.q.x();
+  pose.orientation.y = s.q.y();
+  pose.orientation.z = s.q.z();
+  pose.orientation.w = s.q.w();
+  if (publish_tf_) {
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp;
+    t.header.frame_id = odom_frame_;
+    t.child_frame_id = base_frame_;
+    t.transform.translation.x = s.p.x();
+    t.transform.translation.y = s.p.y();
+    t.transform.translation.z = s.p.z();
+    t.transform.rotation = pose.orientation;
+    tf_->sendTransform(t);
+  }
+  if (odom_pub_.getNumSubscribers() > 0) {
+    nav_msgs::Odometry o;
+    o.header.stamp = stamp;
+    o.header.frame_id = odom_frame_;
+    o.child_frame_id = base_frame_;
+    o.pose.pose = pose;
+    const Eigen::Vector3d v_body = R.transpose() * s.v;  // ROS: twist in the child frame
+    o.twist.twist.linear.x = v_body.x();
+    o.twist.twist.linear.y = v_body.y();
+    o.twist.twist.linear.z = v_body.z();
+    if (r.has_covariance) {
+      // Estimator order [dp (world), dtheta (body), dv (world), ...]; ROS wants the pose
+      // covariance with the rotation about the parent's axes: dtheta_world = R dtheta_body.
+      Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+      J.bottomRightCorner<3, 3>() = R;
+      const Eigen::Matrix<double, 6, 6> P = J * r.covariance.topLeftCorner<6, 6>() * J.transpose();
+      const Eigen::Matrix3d V = R.transpose() * r.covariance.block<3, 3>(6, 6) * R;
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) o.pose.covariance[6 * i + j] = P(i, j);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) o.twist.covariance[6 * i + j] = V(i, j);
+      for (int i = 3; i < 6; ++i) o.twist.covariance[7 * i] = -1.0;  // angular rate: not given
+    } else {
+      o.pose.covariance[0] = -1.0;  // REP 145-style "unknown"
+    }
+    odom_pub_.publish(o);
+  }
+  geometry_msgs::PoseStamped ps;
+  ps.header.stamp = stamp;
+  ps.header.frame_id = odom_frame_;
+  ps.pose = pose;
+  path_.poses.push_back(ps);
+  if (static_cast<int>(path_.poses.size()) > max_path_length_)
+    path_.poses.erase(path_.poses.begin());
+  if (path_pub_.getNumSubscribers() > 0) {
+    path_.header.stamp = stamp;
+    path_pub_.publish(path_);
+  }
+  if (landmarks_pub_.getNumSubscribers() > 0) {
+    std_msgs::Header h;
+    h.stamp = stamp;
+    h.frame_id = odom_frame_;
+    landmarks_pub_.publish(ros_adapters::pointsToCloud(estimator_->landmarkPositions(), h));
+  }
+}
+
+void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!config_error_.empty()) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, config_error_);
+    return;
+  }
+  const rio::RioCounters& c = estimator_->counters();
+  const ros_adapters::RioInputCounters& ic = input_->counters();
+  if (counters_.imu == 0 || counters_.scans == 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for IMU and radar input");
+  else if (last_status_ == rio::FrameStatus::kInitializing)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "initialising: " + last_message_);
+  else if (last_status_ == rio::FrameStatus::kReset || last_status_ == rio::FrameStatus::kRejected)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 std::string(rio::toString(last_status_)) + ": " + last_message_);
+  else
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "tracking");
+  stat.add("imu messages", counters_.imu);
+  stat.add("radar messages", counters_.scans);
+  stat.add("trigger messages", counters_.triggers);
+  stat.add("frames", counters_.frames);
+  stat.add("tracked frames", counters_.tracked);
+  stat.add("resets", c.resets);
+  stat.add("failed solves", c.failed_solves);
+  stat.add("rejected frames", c.rejected_frames);
+  stat.add("imu gaps", c.imu_gaps);
+  stat.add("time jumps back", c.time_jumps);
+  stat.add("imu out of order", c.imu_out_of_order);
+  stat.add("empty scans", c.empty_scans);
+  stat.add("scans without radial velocity", ic.no_velocity_field);
+  stat.add("bad clouds", ic.bad_clouds);
+  stat.add("bad imu messages", ic.bad_imu);
+  stat.add("scans without trigger", ic.unmatched_scans);
+  stat.add("standing frames", c.standing_frames);
+  stat.add("callback errors", counters_.errors);
+  stat.add("last problem", last_problem_);
+}
+
+}  // namespace coral_introspection
+
+PLUGINLIB_EXPORT_CLASS(coral_introspection::RioNodelet, nodelet::Nodelet)

@@ -1,0 +1,120 @@
+// ROS inputs of the radar-inertial odometry: radial-velocity field, missing field, zero
+// stamps, trigger pairing by sequence number (the TI recording's timing).
+#include <gtest/gtest.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+
+#include <filesystem>
+
+#include "coral_introspection/rio/config_yaml.hpp"
+#include "coral_introspection/ros/rio_input.hpp"
+
+namespace ra = coral_introspection::ros_adapters;
+namespace rio = coral_introspection::rio;
+
+namespace {
+
+sensor_msgs::PointCloud2 cloud(uint32_t seq, double stamp, bool with_velocity) {
+  rio::RadarFrame f;
+  f.points = {rio::Vec3(1, 2, 3), rio::Vec3(4, -5, 0.5)};
+  f.radial_velocity = {0.25, -1.5};
+  std_msgs::Header h;
+  h.seq = seq;
+  h.stamp = ros::Time(stamp);
+  h.frame_id = "radar";
+  sensor_msgs::PointCloud2 c = ra::radarFrameToCloud(f, h, "velocity");
+  c.header.seq = seq;
+  if (!with_velocity) c.fields.pop_back();
+  return c;
+}
+
+}  // namespace
+
+TEST(RioInput, ReadsPointsAndRadialVelocityWithHeaderTime) {
+  ra::RioInput in{ra::RioInputConfig()};
+  std::string err;
+  const std::vector<rio::RadarFrame> f = in.radar(cloud(3, 12.5, true), &err);
+  ASSERT_EQ(f.size(), 1u) << err;
+  EXPECT_TRUE(err.empty());
+  EXPECT_DOUBLE_EQ(f[0].t, 12.5);
+  ASSERT_EQ(f[0].points.size(), 2u);
+  EXPECT_NEAR(f[0].points[1].y(), -5.0, 1e-6);
+  ASSERT_EQ(f[0].radial_velocity.size(), 2u);
+  EXPECT_NEAR(f[0].radial_velocity[1], -1.5, 1e-6);
+}
+
+TEST(RioInput, MissingVelocityFieldAndZeroStampAreReported) {
+  ra::RioInput in{ra::RioInputConfig()};
+  std::string err;
+  std::vector<rio::RadarFrame> f = in.radar(cloud(1, 5.0, false), &err);
+  ASSERT_EQ(f.size(), 1u);  // points still usable, without Doppler
+  EXPECT_TRUE(f[0].radial_velocity.empty());
+  EXPECT_NE(err.find("no radial-velocity field"), std::string::npos) << err;
+  EXPECT_EQ(in.counters().no_velocity_field, 1);
+  f = in.radar(cloud(2, 0.0, true), &err);  // header time, zero stamp
+  EXPECT_TRUE(f.empty());
+  EXPECT_EQ(in.counters().bad_clouds, 1);
+}
+
+TEST(RioInput, TriggerOfTheSameSequenceNumberGivesTheTime) {
+  ra::RioInputConfig cfg;
+  cfg.time_source = "trigger";
+  cfg.trigger_topic = "trigger";
+  ASSERT_EQ(cfg.validate(), "");
+  ra::RioInput in(cfg);
+  std::string err;
+  std_msgs::Header t109, t110;
+  t109.seq = 109;
+  t109.stamp = ros::Time(100.0);
+  t110.seq = 110;
+  t110.stamp = ros::Time(100.1);
+  EXPECT_TRUE(in.trigger(t109).empty());
+  EXPECT_TRUE(in.trigger(t110).empty());
+  // The TI scans carry zero stamps; scan 109 arrives after trigger 110 and must take the
+  // time of trigger 109 (same seq), not of the latest trigger.
+  std::vector<rio::RadarFrame> f = in.radar(cloud(109, 0.0, true), &err);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].t, 100.0);
+  // A scan that arrives before its trigger waits for it.
+  EXPECT_TRUE(in.radar(cloud(111, 0.0, true), &err).empty());
+  EXPECT_EQ(in.waitingScans(), 1);
+  std_msgs::Header t111;
+  t111.seq = 111;
+  t111.stamp = ros::Time(100.2);
+  f = in.trigger(t111);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].t, 100.2);
+}
+
+TEST(RioInput, ConfigFromYamlIsValidated) {
+  ra::RioInputConfig cfg;
+  std::string err;
+  EXPECT_TRUE(
+      ra::loadRioInputConfig(YAML::Load("{time_source: trigger, trigger_topic: /t}"), &cfg, &err))
+      << err;
+  EXPECT_EQ(cfg.trigger_topic, "/t");
+  EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("{time_source: gps}"), &cfg, &err));
+  EXPECT_NE(err.find("time_source"), std::string::npos);
+  cfg = ra::RioInputConfig();
+  EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("{time_source: trigger}"), &cfg, &err));
+}
+
+// Every RioNodelet / rio_offline config in config/ loads without errors or warnings.
+TEST(RioInput, EveryRioConfigLoads) {
+  int n = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(CORAL_SOURCE_DIR) + "/config")) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("rio_", 0) != 0) continue;
+    SCOPED_TRACE(name);
+    ++n;
+    const YAML::Node root = YAML::LoadFile(e.path().string());
+    rio::RioConfig cfg;
+    ra::RioInputConfig in;
+    std::string err;
+    std::vector<std::string> warnings;
+    EXPECT_TRUE(rio::loadRioConfig(root, &cfg, &err, &warnings, {"ros"})) << err;
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    EXPECT_TRUE(ra::loadRioInputConfig(root["ros"], &in, &err)) << err;
+  }
+  EXPECT_GE(n, 3);
+}
