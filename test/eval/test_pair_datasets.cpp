@@ -170,8 +170,8 @@ TEST(PairDatasets, LivoxKeyframesAndTheLibpointmatcherCloudList) {
   EXPECT_EQ(better, 11);
 
   ASSERT_TRUE(parseDatasetSpec(
-      "car=cloudlist:" + coral_data_root + "/libpointmatcher_car_cloud/carCloudList.csv", &spec,
-      &err));
+      "car=cloudlist:" + coral_test::dataDir() + "/libpointmatcher_car_cloud/carCloudList.csv",
+      &spec, &err));
   ASSERT_TRUE(loadPairDataset(spec, opt, nullptr, &d, &err)) << err;
   ASSERT_EQ(d.pairs.size(), 1u);
   EXPECT_EQ(d.name, "car");

@@ -12,6 +12,7 @@
 #include <std_msgs/Header.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <topic_tools/shape_shifter.h>
 
 #include <cmath>
 #include <map>
@@ -73,28 +74,31 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   ros::Subscriber sd = diagnosticsOf(nh, "rio_ti", &c);
   tf2_ros::Buffer tf(ros::Duration(100.0));
   tf2_ros::TransformListener listener(tf);
-  ros::Publisher pi = nh.advertise<sensor_msgs::Imu>("/ti/imu", 5000);
-  ros::Publisher pr = nh.advertise<sensor_msgs::PointCloud2>("/ti/radar", 100);
-  ros::Publisher pt = nh.advertise<std_msgs::Header>("/ti/trigger", 100);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  waitFor(nh, pi);
-  waitFor(nh, pr);
-  waitFor(nh, pt);
   // In bag order, 5x faster than recorded (the estimator needs ~2 ms per radar frame).
+  // Published as raw bytes, as `rosbag play` does: a typed roscpp publisher rewrites
+  // header.seq, and the radar scans are paired with their triggers by seq.
+  const std::map<std::string, std::string> remap = {
+      {"/sensor_platform/imu", "/ti/imu"},
+      {"/ti_mmwave/radar_scan_pcl", "/ti/radar"},
+      {"/sensor_platform/radar_right/trigger", "/ti/trigger"}};
   rosbag::View view(bag, rosbag::TopicQuery({"/sensor_platform/imu", "/ti_mmwave/radar_scan_pcl",
                                              "/sensor_platform/radar_right/trigger"}));
+  std::map<std::string, ros::Publisher> pubs;
+  for (const rosbag::ConnectionInfo* ci : view.getConnections()) {
+    if (pubs.count(ci->topic)) continue;
+    ros::AdvertiseOptions opts(remap.at(ci->topic), 5000, ci->md5sum, ci->datatype, ci->msg_def);
+    pubs[ci->topic] = nh.advertise(opts);
+  }
+  ASSERT_EQ(pubs.size(), 3u) << "the bag lacks one of the imu, radar and trigger topics";
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  for (auto& p : pubs) waitFor(nh, p.second);
   ros::Time last;
   for (const rosbag::MessageInstance& m : view) {
     if (!last.isZero() && m.getTime() > last)
       ros::WallDuration((m.getTime() - last).toSec() / 5).sleep();
     last = m.getTime();
-    if (auto imu = m.instantiate<sensor_msgs::Imu>())
-      pi.publish(imu);
-    else if (auto cloud = m.instantiate<sensor_msgs::PointCloud2>())
-      pr.publish(cloud);
-    else if (auto trig = m.instantiate<std_msgs::Header>())
-      pt.publish(trig);
+    pubs[m.getTopic()].publish(*m.instantiate<topic_tools::ShapeShifter>());
   }
   ros::WallDuration(1.5).sleep();
   std::lock_guard<std::mutex> l(c.m);
@@ -105,14 +109,22 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
                                  << ", " << c.summary;
   const nav_msgs::Odometry& first = c.odom.front();
   const nav_msgs::Odometry& end = c.odom.back();
+  // A frame whose window solve gave no covariance says so (pose.covariance[0] = -1, REP 145
+  // "unknown"); that may happen right after initialisation, not as a habit.
+  std::size_t unknown_covariance = 0;
   for (const nav_msgs::Odometry& o : c.odom) {
     EXPECT_EQ(o.header.frame_id, "odom");
     EXPECT_EQ(o.child_frame_id, "base_link");
+    if (o.pose.covariance[0] == -1.0) {
+      ++unknown_covariance;
+      continue;
+    }
     for (int i = 0; i < 6; ++i) {
       EXPECT_TRUE(std::isfinite(o.pose.covariance[7 * i]));
       EXPECT_GT(o.pose.covariance[7 * i], 0.0) << "pose covariance diagonal " << i;
     }
   }
+  EXPECT_LE(unknown_covariance, 3u);
   // Hand-held loop: ends where it started (offline runner: 0.06 m; the nodelet gets the same
   // data, so a loose bound catches a broken pipeline, not the accuracy figure).
   const double dx = end.pose.pose.position.x - first.pose.pose.position.x;
