@@ -51,6 +51,16 @@ std::vector<double> bowl(const Eigen::Vector3d& at, const Eigen::Vector3d& c,
   }
   return out;
 }
+// Q at the pose and at its neighbours first, then the decision: in one call expression
+// decideRelative(q0, off, bowl(..., &q0), cfg) the order in which the arguments are
+// evaluated is unspecified (gcc and clang differ), so q0 could be read before bowl sets it.
+RelativeCheckResult decideBowl(const Eigen::Vector3d& at, const Eigen::Vector3d& c,
+                               const std::vector<ToleranceOffset>& offsets,
+                               const RelativeCheckConfig& cfg) {
+  double q0 = 0.0;
+  const std::vector<double> neighbours = bowl(at, c, offsets, &q0);
+  return decideRelative(q0, offsets, neighbours, cfg);
+}
 }  // namespace
 
 TEST(RelativeCheck, DecisionOnAKnownBowl) {
@@ -59,7 +69,7 @@ TEST(RelativeCheck, DecisionOnAKnownBowl) {
   double q0 = 0.0;
   // At the minimum every neighbour is higher (by c_k): aligned, no hint, s_k = -1 each.
   const Eigen::Vector3d c(1.0, 0.5, 0.8);
-  RelativeCheckResult r = decideRelative(q0, off, bowl({0, 0, 0}, c, off, &q0), cfg);
+  RelativeCheckResult r = decideBowl({0, 0, 0}, c, off, cfg);
   ASSERT_TRUE(r.valid);
   EXPECT_FALSE(r.misaligned);
   EXPECT_TRUE(r.hint.name.empty());
@@ -69,7 +79,7 @@ TEST(RelativeCheck, DecisionOnAKnownBowl) {
   EXPECT_TRUE(r.flat_axes.empty());
   // One tolerance off along +x: the step x- reaches the truth (Q drops by D = c_x = 1, the
   // step x+ raises it by U = 3): s_x = 2D / (D + U) = 0.5.
-  r = decideRelative(q0, off, bowl({1, 0, 0}, c, off, &q0), cfg);
+  r = decideBowl({1, 0, 0}, c, off, cfg);
   EXPECT_TRUE(r.misaligned);
   EXPECT_EQ(r.hint.name, "x-");
   EXPECT_NEAR(r.q, 1.2, 1e-12);
@@ -77,20 +87,20 @@ TEST(RelativeCheck, DecisionOnAKnownBowl) {
   EXPECT_NEAR(r.score, 0.5, 1e-12);
   EXPECT_NEAR(r.axes[1].score, -1.0, 1e-12);
   // Off along yaw the other way round.
-  r = decideRelative(q0, off, bowl({0, 0, -1}, c, off, &q0), cfg);
+  r = decideBowl({0, 0, -1}, c, off, cfg);
   EXPECT_TRUE(r.misaligned);
   EXPECT_EQ(r.hint.name, "yaw+");
   // A corridor: Q barely changes along y. Without noise the slope still shows (s_y = 0.5),
   // and y is reported flat: on real data such an axis decides unreliably.
   const Eigen::Vector3d corridor(1.0, 0.001, 0.8);
-  r = decideRelative(q0, off, bowl({0, 1, 0}, corridor, off, &q0), cfg);
+  r = decideBowl({0, 1, 0}, corridor, off, cfg);
   EXPECT_TRUE(r.misaligned);
   EXPECT_EQ(r.hint.name, "y-");
   ASSERT_EQ(r.flat_axes.size(), 1u);
   EXPECT_EQ(r.flat_axes[0], Axis::kY);
   // A larger margin tolerates a smaller asymmetry: s_x = 0.5 passes a margin of 0.6.
   cfg.margin = 0.6;
-  EXPECT_FALSE(decideRelative(q0, off, bowl({1, 0, 0}, c, off, &q0), cfg).misaligned);
+  EXPECT_FALSE(decideBowl({1, 0, 0}, c, off, cfg).misaligned);
   cfg.margin = 0.2;
   // Missing neighbours: the axis with values still decides; none at all is invalid.
   std::vector<double> q = bowl({1, 0, 0}, c, off, &q0);
