@@ -51,6 +51,18 @@ Points finiteOnly(const Points& in, std::vector<uint32_t>* original) {
     if (in[i].allFinite()) out.push_back(in[i]), original->push_back(static_cast<uint32_t>(i));
   return out;
 }
+// Shared precondition of the association entry points: a valid config and one covariance
+// per query; the reason goes to *error (when given).
+bool inputsValid(const Points& queries, const Covariances& covariances,
+                 const ProbabilisticAssociationConfig& cfg, std::string* error) {
+  std::string msg = cfg.validate();
+  if (msg.empty() && covariances.size() != queries.size())
+    msg = "covariances size differs from queries size";
+  if (msg.empty()) return true;
+  if (error) *error = msg;
+  return false;
+}
+
 }  // namespace
 
 double gaussianLogDensity(const Vec3& x, const Vec3& mean, const Mat3& sigma, int dim,
@@ -112,13 +124,7 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
                                                        const Points& landmarks,
                                                        const ProbabilisticAssociationConfig& cfg,
                                                        std::string* error) {
-  std::string msg = cfg.validate();
-  if (msg.empty() && covariances.size() != queries.size())
-    msg = "covariances size differs from queries size";
-  if (!msg.empty()) {
-    if (error) *error = msg;
-    return {};
-  }
+  if (!inputsValid(queries, covariances, cfg, error)) return {};
   const ProbabilisticMatcher matcher(landmarks, cfg);
   std::vector<ProbabilisticMatch> out;
   out.reserve(queries.size());
@@ -132,13 +138,7 @@ std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
                                                   const Points& landmarks,
                                                   const ProbabilisticAssociationConfig& cfg,
                                                   std::string* error) {
-  std::string msg = cfg.validate();
-  if (msg.empty() && covariances.size() != queries.size())
-    msg = "covariances size differs from queries size";
-  if (!msg.empty()) {
-    if (error) *error = msg;
-    return {};
-  }
+  if (!inputsValid(queries, covariances, cfg, error)) return {};
   const ProbabilisticMatcher matcher(landmarks, cfg);
   struct Pair {
     double log_density;
