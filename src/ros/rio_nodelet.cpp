@@ -44,6 +44,8 @@ void RioNodelet::onInit() {
   pnh.param<int>("max_path_length", max_path_length_, max_path_length_);
   pnh.param<std::string>("extrinsics_source", extrinsics_source_, extrinsics_source_);
   pnh.param<std::string>("imu_frame", imu_frame_, base_frame_);
+  bool publish_extrinsics_tf = false;
+  pnh.param<bool>("publish_extrinsics_tf", publish_extrinsics_tf, false);
 
   updater_ = std::make_shared<diagnostic_updater::Updater>(nh, pnh);
   updater_->setHardwareID("rio");
@@ -74,8 +76,10 @@ void RioNodelet::onInit() {
     err = "odom_frame and base_frame must be set and max_path_length >= 1";
   if (err.empty() && extrinsics_source_ != "config" && extrinsics_source_ != "tf")
     err = "extrinsics_source must be config or tf, got '" + extrinsics_source_ + "'";
-  if (err.empty() && extrinsics_source_ == "tf" && (imu_frame_.empty() || radar_frame_.empty()))
-    err = "extrinsics_source tf needs imu_frame and radar_frame";
+  if (err.empty() && (imu_frame_.empty() || radar_frame_.empty()))
+    err = "imu_frame and radar_frame must be set";
+  if (err.empty() && extrinsics_source_ == "tf" && publish_extrinsics_tf)
+    err = "publish_extrinsics_tf needs extrinsics_source config (with tf they come from TF)";
   if (!err.empty()) {
     config_error_ = err;
     NODELET_ERROR("%s; the odometry does not run", err.c_str());
@@ -86,6 +90,22 @@ void RioNodelet::onInit() {
   if (extrinsics_source_ == "config") {
     extrinsics_from_ = "config file";
     startEstimator();
+    if (publish_extrinsics_tf) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = ros::Time::now();
+      t.header.frame_id = imu_frame_;
+      t.child_frame_id = radar_frame_;
+      t.transform.translation.x = cfg_.extrinsics.t.x();
+      t.transform.translation.y = cfg_.extrinsics.t.y();
+      t.transform.translation.z = cfg_.extrinsics.t.z();
+      const Eigen::Quaterniond q(cfg_.extrinsics.R);
+      t.transform.rotation.x = q.x();
+      t.transform.rotation.y = q.y();
+      t.transform.rotation.z = q.z();
+      t.transform.rotation.w = q.w();
+      static_tf_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+      static_tf_->sendTransform(t);
+    }
   } else {
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);

@@ -144,6 +144,12 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   EXPECT_NEAR(t.transform.translation.x, end.pose.pose.position.x, 1e-6);
   EXPECT_NEAR(t.transform.translation.y, end.pose.pose.position.y, 1e-6);
   EXPECT_NEAR(std::abs(t.transform.rotation.w), std::abs(end.pose.pose.orientation.w), 1e-6);
+  // publish_extrinsics_tf: the config's radar pose as a static TF base_link -> radar.
+  ASSERT_NO_THROW(t = tf.lookupTransform("base_link", "radar", ros::Time(0)));
+  EXPECT_NEAR(t.transform.translation.x, 0.03, 1e-9);
+  EXPECT_NEAR(t.transform.translation.z, -0.06, 1e-9);
+  EXPECT_NEAR(std::abs(t.transform.rotation.x), 0.918681231167, 1e-6);
+  EXPECT_NEAR(std::abs(t.transform.rotation.w), 0.033880048164, 1e-6);
   EXPECT_GT(c.diag_updates, 0);
   EXPECT_EQ(c.diag["callback errors"], "0");
 }

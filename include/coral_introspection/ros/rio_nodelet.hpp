@@ -11,7 +11,9 @@
 // radar_frame), when the radar frame first appears and retried on every scan until TF has it;
 // the estimator starts then (inputs before it are dropped and counted; diagnostics say which
 // transform is missing). The extrinsics are constant afterwards (the estimator assumes a rigid
-// mounting).
+// mounting). With extrinsics from the config, publish_extrinsics_tf broadcasts them as a static
+// TF imu_frame -> radar_frame (what CoralNodelet needs to pose the scans; Debian's ROS has no
+// static_transform_publisher).
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -22,6 +24,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -67,6 +70,7 @@ class RioNodelet : public nodelet::Nodelet {
   std::string extrinsics_source_ = "config", imu_frame_, extrinsics_from_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
   bool publish_tf_ = true;
   int max_path_length_ = 10000;
   std::unique_ptr<rio::Estimator> estimator_;  // null until the extrinsics are known
