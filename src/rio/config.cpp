@@ -12,6 +12,8 @@ std::string UncertaintyConfig::validate() const {
       .nested("noise", noise.validate())
       .require(covariance_scale > 0.0, "covariance_scale", "> 0", covariance_scale)
       .require(isotropic_sigma > 0.0, "isotropic_sigma", "> 0 m", isotropic_sigma)
+      .require(ablation_shrink > 0.0 && ablation_shrink <= 1.0, "ablation_shrink", "in (0, 1]",
+               ablation_shrink)
       .require(sigma_doppler > 0.0, "sigma_doppler", "> 0 m/s", sigma_doppler)
       .require(doppler_sigma_isotropic > 0.0, "doppler_sigma_isotropic", "> 0 m/s",
                doppler_sigma_isotropic)

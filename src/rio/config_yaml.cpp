@@ -94,6 +94,8 @@ bool readAll(Reader& r, RioConfig* c) {
       r.get("uncertainty/sigma_elevation", &u.noise.sigma_elevation) &&
       r.get("uncertainty/covariance_scale", &u.covariance_scale) &&
       r.get("uncertainty/isotropic_sigma", &u.isotropic_sigma) &&
+      r.get("uncertainty/ablation_replace", &u.ablation_replace) &&
+      r.get("uncertainty/ablation_shrink", &u.ablation_shrink) &&
       r.get("uncertainty/sigma_doppler", &u.sigma_doppler) &&
       r.get("uncertainty/doppler_sigma_isotropic", &u.doppler_sigma_isotropic) &&
       r.get("uncertainty/min_variance", &u.min_variance) &&

@@ -13,6 +13,16 @@ Mat3 pointCovariance(const Vec3& p, const UncertaintyConfig& cfg) {
   const Vec3 d = p / r;
   const Mat3 along = d * d.transpose();
   Mat3 S;
+  if (!cfg.ablation_replace && cfg.mode != UncertaintyMode::kFull) {
+    core::RadarNoiseConfig shrunk = cfg.noise;  // Sec. IV-B: the removed sigma "very small"
+    if (cfg.mode == UncertaintyMode::kNoRange) {
+      shrunk.sigma_range *= cfg.ablation_shrink;
+    } else {
+      shrunk.sigma_azimuth *= cfg.ablation_shrink;
+      shrunk.sigma_elevation *= cfg.ablation_shrink;
+    }
+    return cfg.covariance_scale * core::pointCovariance(p, shrunk, 3);
+  }
   switch (cfg.mode) {
     case UncertaintyMode::kFull:
       S = core::pointCovariance(p, cfg.noise, 3);

@@ -20,6 +20,23 @@ std::string RioInputConfig::validate() const {
       .str();
 }
 
+bool extrinsicsFromTransform(const geometry_msgs::Transform& body_radar, rio::Extrinsics* out,
+                             std::string* error) {
+  const geometry_msgs::Vector3& p = body_radar.translation;
+  const geometry_msgs::Quaternion& q = body_radar.rotation;
+  const Eigen::Quaterniond qq(q.w, q.x, q.y, q.z);
+  const Eigen::Vector3d t(p.x, p.y, p.z);
+  if (!t.allFinite() || !qq.coeffs().allFinite() || std::abs(qq.norm() - 1.0) > 1e-3) {
+    *error =
+        "radar-to-IMU transform is not a rigid transform (translation finite, unit "
+        "quaternion)";
+    return false;
+  }
+  out->R = qq.normalized().toRotationMatrix();
+  out->t = t;
+  return true;
+}
+
 bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error) {
   try {
     if (node && node.IsMap()) {

@@ -4,6 +4,9 @@
 #include <nav_msgs/Odometry.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <iomanip>
+#include <sstream>
+
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
@@ -39,6 +42,10 @@ void RioNodelet::onInit() {
   pnh.param<std::string>("radar_frame", radar_frame_, radar_frame_);
   pnh.param<bool>("publish_tf", publish_tf_, publish_tf_);
   pnh.param<int>("max_path_length", max_path_length_, max_path_length_);
+  pnh.param<std::string>("extrinsics_source", extrinsics_source_, extrinsics_source_);
+  pnh.param<std::string>("imu_frame", imu_frame_, base_frame_);
+  bool publish_extrinsics_tf = false;
+  pnh.param<bool>("publish_extrinsics_tf", publish_extrinsics_tf, false);
 
   updater_ = std::make_shared<diagnostic_updater::Updater>(nh, pnh);
   updater_->setHardwareID("rio");
@@ -67,14 +74,42 @@ void RioNodelet::onInit() {
   }
   if (err.empty() && (odom_frame_.empty() || base_frame_.empty() || max_path_length_ < 1))
     err = "odom_frame and base_frame must be set and max_path_length >= 1";
+  if (err.empty() && extrinsics_source_ != "config" && extrinsics_source_ != "tf")
+    err = "extrinsics_source must be config or tf, got '" + extrinsics_source_ + "'";
+  if (err.empty() && (imu_frame_.empty() || radar_frame_.empty()))
+    err = "imu_frame and radar_frame must be set";
+  if (err.empty() && extrinsics_source_ == "tf" && publish_extrinsics_tf)
+    err = "publish_extrinsics_tf needs extrinsics_source config (with tf they come from TF)";
   if (!err.empty()) {
     config_error_ = err;
     NODELET_ERROR("%s; the odometry does not run", err.c_str());
     return;
   }
   for (const std::string& w : warnings) NODELET_WARN("%s", w.c_str());
-  estimator_ = std::make_unique<rio::Estimator>(cfg);
-  estimator_->setComputeCovariance(true);
+  cfg_ = cfg;
+  if (extrinsics_source_ == "config") {
+    extrinsics_from_ = "config file";
+    startEstimator();
+    if (publish_extrinsics_tf) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = ros::Time::now();
+      t.header.frame_id = imu_frame_;
+      t.child_frame_id = radar_frame_;
+      t.transform.translation.x = cfg_.extrinsics.t.x();
+      t.transform.translation.y = cfg_.extrinsics.t.y();
+      t.transform.translation.z = cfg_.extrinsics.t.z();
+      const Eigen::Quaterniond q(cfg_.extrinsics.R);
+      t.transform.rotation.x = q.x();
+      t.transform.rotation.y = q.y();
+      t.transform.rotation.z = q.z();
+      t.transform.rotation.w = q.w();
+      static_tf_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+      static_tf_->sendTransform(t);
+    }
+  } else {
+    tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+    tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_);
+  }
   input_ = std::make_unique<ros_adapters::RioInput>(in_cfg);
   path_.header.frame_id = odom_frame_;
   velocity_field_ = in_cfg.velocity_field;
@@ -91,8 +126,37 @@ void RioNodelet::onInit() {
   radar_sub_ = nh.subscribe("radar", 50, &RioNodelet::radarCb, this);
   if (input_->usesTrigger())
     trigger_sub_ = nh.subscribe("trigger", 50, &RioNodelet::triggerCb, this);
-  NODELET_INFO("rio: config %s, radar time from %s", config_file.c_str(),
-               in_cfg.time_source.c_str());
+  NODELET_INFO("rio: config %s, radar time from %s, extrinsics from %s", config_file.c_str(),
+               in_cfg.time_source.c_str(), extrinsics_source_.c_str());
+}
+
+void RioNodelet::startEstimator() {
+  estimator_ = std::make_unique<rio::Estimator>(cfg_);
+  estimator_->setComputeCovariance(true);
+}
+
+void RioNodelet::lookupExtrinsics(const std::string& radar_frame) {
+  geometry_msgs::TransformStamped t;
+  try {
+    // Latest available: the mounting is rigid (a static transform in practice).
+    t = tf_buffer_->lookupTransform(imu_frame_, radar_frame, ros::Time(0));
+  } catch (const tf2::TransformException& e) {
+    last_problem_ = "waiting for TF " + imu_frame_ + " <- " + radar_frame +
+                    " (radar-to-IMU extrinsics; extrinsics_source tf): " + e.what();
+    NODELET_WARN_THROTTLE(5.0, "%s", last_problem_.c_str());
+    return;
+  }
+  std::string err;
+  if (!ros_adapters::extrinsicsFromTransform(t.transform, &cfg_.extrinsics, &err) ||
+      !(err = cfg_.validate()).empty()) {
+    last_problem_ = "TF " + imu_frame_ + " <- " + radar_frame + ": " + err;
+    NODELET_ERROR_THROTTLE(5.0, "%s", last_problem_.c_str());
+    return;
+  }
+  extrinsics_from_ = "TF " + imu_frame_ + " <- " + radar_frame;
+  NODELET_INFO("rio: extrinsics from %s: t = (%.4f, %.4f, %.4f) m", extrinsics_from_.c_str(),
+               cfg_.extrinsics.t.x(), cfg_.extrinsics.t.y(), cfg_.extrinsics.t.z());
+  startEstimator();
 }
 
 void RioNodelet::imuCb(const sensor_msgs::ImuConstPtr& msg) {
@@ -106,7 +170,7 @@ void RioNodelet::imuCb(const sensor_msgs::ImuConstPtr& msg) {
       NODELET_WARN_THROTTLE(5.0, "%s", err.c_str());
       return;
     }
-    handle(estimator_->addImu(s));
+    if (estimator_) handle(estimator_->addImu(s));
   });
 }
 
@@ -121,6 +185,7 @@ void RioNodelet::radarCb(const sensor_msgs::PointCloud2ConstPtr& msg) {
       NODELET_WARN_THROTTLE(5.0, "%s", err.c_str());
     }
     if (!msg->header.frame_id.empty()) radar_frame_ = msg->header.frame_id;
+    if (!estimator_) lookupExtrinsics(radar_frame_);
     for (rio::RadarFrame& f : frames) feedRadar(std::move(f));
   });
 }
@@ -140,6 +205,10 @@ void RioNodelet::feedRadar(rio::RadarFrame f) {
     h.stamp = ros::Time(f.t + radar_time_offset_);
     h.frame_id = radar_frame_;
     stamped_pub_.publish(ros_adapters::radarFrameToCloud(f, h, velocity_field_));
+  }
+  if (!estimator_) {
+    ++counters_.waiting_for_extrinsics;
+    return;
   }
   handle(estimator_->addRadar(std::move(f)));
 }
@@ -234,6 +303,27 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   if (!config_error_.empty()) {
     stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, config_error_);
     return;
+  }
+  stat.add("extrinsics source", extrinsics_source_);
+  stat.add("radar frames waiting for extrinsics", counters_.waiting_for_extrinsics);
+  if (!estimator_) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 "waiting for TF " + imu_frame_ + " <- " + radar_frame_ +
+                     " (radar-to-IMU extrinsics): the odometry starts when it appears");
+    stat.add("imu messages", counters_.imu);
+    stat.add("radar messages", counters_.scans);
+    stat.add("last problem", last_problem_);
+    return;
+  }
+  {
+    const Eigen::Quaterniond q(cfg_.extrinsics.R);
+    std::ostringstream ts, qs;
+    ts << std::setprecision(6) << cfg_.extrinsics.t.x() << ' ' << cfg_.extrinsics.t.y() << ' '
+       << cfg_.extrinsics.t.z();
+    qs << std::setprecision(6) << q.x() << ' ' << q.y() << ' ' << q.z() << ' ' << q.w();
+    stat.add("extrinsics from", extrinsics_from_);
+    stat.add("extrinsics translation [m]", ts.str());
+    stat.add("extrinsics rotation [qx qy qz qw]", qs.str());
   }
   const rio::RioCounters& c = estimator_->counters();
   const ros_adapters::RioInputCounters& ic = input_->counters();

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <cmath>
 #include <filesystem>
 
 #include "coral_introspection/rio/config_yaml.hpp"
@@ -117,4 +118,26 @@ TEST(RioInput, EveryRioConfigLoads) {
     EXPECT_TRUE(ra::loadRioInputConfig(root["ros"], &in, &err)) << err;
   }
   EXPECT_GE(n, 3);
+}
+
+TEST(RioInput, ExtrinsicsFromTfTransformMapRadarPointsIntoTheBody) {
+  // body <- radar: radar 0.1, 0.2, 0.3 m from the IMU, turned +90 deg about z.
+  geometry_msgs::Transform t;
+  t.translation.x = 0.1;
+  t.translation.y = 0.2;
+  t.translation.z = 0.3;
+  t.rotation.z = std::sqrt(0.5);
+  t.rotation.w = std::sqrt(0.5);
+  rio::Extrinsics e;
+  std::string err;
+  ASSERT_TRUE(ra::extrinsicsFromTransform(t, &e, &err)) << err;
+  // A reflector 2 m ahead of the radar is 2 m to the body's left, offset by the lever arm.
+  const rio::Vec3 p = e.R * rio::Vec3(2, 0, 0) + e.t;
+  EXPECT_NEAR(p.x(), 0.1, 1e-12);
+  EXPECT_NEAR(p.y(), 2.2, 1e-12);
+  EXPECT_NEAR(p.z(), 0.3, 1e-12);
+  t.rotation.w = 0.9;  // not a unit quaternion: refused, *e unchanged
+  EXPECT_FALSE(ra::extrinsicsFromTransform(t, &e, &err));
+  EXPECT_NE(err.find("rigid transform"), std::string::npos) << err;
+  EXPECT_NEAR(e.t.y(), 0.2, 1e-12);
 }

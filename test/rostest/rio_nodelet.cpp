@@ -11,6 +11,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_msgs/Header.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <topic_tools/shape_shifter.h>
 
@@ -143,6 +144,12 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   EXPECT_NEAR(t.transform.translation.x, end.pose.pose.position.x, 1e-6);
   EXPECT_NEAR(t.transform.translation.y, end.pose.pose.position.y, 1e-6);
   EXPECT_NEAR(std::abs(t.transform.rotation.w), std::abs(end.pose.pose.orientation.w), 1e-6);
+  // publish_extrinsics_tf: the config's radar pose as a static TF base_link -> radar.
+  ASSERT_NO_THROW(t = tf.lookupTransform("base_link", "radar", ros::Time(0)));
+  EXPECT_NEAR(t.transform.translation.x, 0.03, 1e-9);
+  EXPECT_NEAR(t.transform.translation.z, -0.06, 1e-9);
+  EXPECT_NEAR(std::abs(t.transform.rotation.x), 0.918681231167, 1e-6);
+  EXPECT_NEAR(std::abs(t.transform.rotation.w), 0.033880048164, 1e-6);
   EXPECT_GT(c.diag_updates, 0);
   EXPECT_EQ(c.diag["callback errors"], "0");
 }
@@ -159,10 +166,11 @@ sensor_msgs::Imu imuAt(double t) {
 
 // Static reflectors in front of a standing radar (zero Doppler); with_velocity false drops the
 // radial-velocity field.
-sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity) {
+sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity,
+                                const std::string& frame = "radar") {
   sensor_msgs::PointCloud2 c;
   c.header.stamp = ros::Time(t);
-  c.header.frame_id = "radar";
+  c.header.frame_id = frame;
   sensor_msgs::PointCloud2Modifier mod(c);
   if (with_velocity)
     mod.setPointCloud2Fields(
@@ -235,6 +243,82 @@ TEST(RioNodelet, BadInputsGiveDiagnosticsAndRecovery) {
   for (const nav_msgs::Odometry& o : c.odom)
     EXPECT_LT(std::hypot(o.pose.pose.position.x, o.pose.pose.position.y), 0.2)
         << "a standing radar must not drift";
+}
+
+// extrinsics_source tf: no odometry and a diagnostic naming the missing transform until TF has
+// it; then the odometry starts with exactly that transform (the landmarks land where the TF
+// rotation puts the reflectors, not where the config file's TI extrinsics would).
+TEST(RioNodelet, ExtrinsicsFromTfWaitForTheTransformThenUseIt) {
+  ros::NodeHandle nh;
+  Collector c;
+  std::vector<sensor_msgs::PointCloud2> landmarks;
+  ros::Subscriber so = nh.subscribe<nav_msgs::Odometry>("/late_tf/odometry", 1000,
+                                                        [&c](const nav_msgs::OdometryConstPtr& m) {
+                                                          std::lock_guard<std::mutex> l(c.m);
+                                                          c.odom.push_back(*m);
+                                                        });
+  ros::Subscriber sl = nh.subscribe<sensor_msgs::PointCloud2>(
+      "/late_tf/landmarks", 100, [&c, &landmarks](const sensor_msgs::PointCloud2ConstPtr& m) {
+        std::lock_guard<std::mutex> l(c.m);
+        landmarks.push_back(*m);
+      });
+  ros::Subscriber sd = diagnosticsOf(nh, "rio_late_tf", &c);
+  ros::Publisher pi = nh.advertise<sensor_msgs::Imu>("/late_tf/imu", 5000);
+  ros::Publisher pr = nh.advertise<sensor_msgs::PointCloud2>("/late_tf/radar", 100);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  waitFor(nh, pi);
+  waitFor(nh, pr);
+  auto play = [&](double t0, double t1) {
+    for (double t = t0; t < t1; t += 0.005) {
+      pi.publish(imuAt(t));
+      if (std::lround((t - t0) / 0.005) % 20 == 19)
+        pr.publish(scanAt(t - 0.002, 30, true, "late_radar"));
+      ros::WallDuration(0.0005).sleep();
+    }
+  };
+  play(2000.0, 2002.0);  // standing, no TF yet
+  ros::WallDuration(2.5).sleep();
+  {
+    std::lock_guard<std::mutex> l(c.m);
+    EXPECT_TRUE(c.odom.empty()) << "no odometry without the extrinsics";
+    EXPECT_NE(c.summary.find("waiting for TF late_base <- late_radar"), std::string::npos)
+        << c.summary;
+    EXPECT_EQ(c.level, diagnostic_msgs::DiagnosticStatus::WARN);
+  }
+  EXPECT_GT(diagValue(c, "radar frames waiting for extrinsics"), 5);
+  // The radar 0.1, 0.2, 0.3 m from the IMU, turned +90 deg about z.
+  tf2_ros::StaticTransformBroadcaster broadcaster;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time(2000.0);
+  t.header.frame_id = "late_base";
+  t.child_frame_id = "late_radar";
+  t.transform.translation.x = 0.1;
+  t.transform.translation.y = 0.2;
+  t.transform.translation.z = 0.3;
+  t.transform.rotation.z = std::sqrt(0.5);
+  t.transform.rotation.w = std::sqrt(0.5);
+  broadcaster.sendTransform(t);
+  ros::WallDuration(0.5).sleep();
+  play(2002.0, 2005.0);
+  ros::WallDuration(2.5).sleep();
+  std::lock_guard<std::mutex> l(c.m);
+  EXPECT_GT(c.odom.size(), 5u) << c.summary;
+  EXPECT_EQ(c.diag["extrinsics from"], "TF late_base <- late_radar");
+  EXPECT_EQ(c.diag["extrinsics translation [m]"], "0.1 0.2 0.3");
+  ASSERT_FALSE(landmarks.empty());
+  const sensor_msgs::PointCloud2& cloud = landmarks.back();
+  ASSERT_GT(cloud.width * cloud.height, 0u);
+  // Reflectors at x_r 2..3.8 m, y_r -1.5..1 m in the radar frame; the standing body is level
+  // with zero yaw, so in the odometry frame x = -y_r + 0.1 (-0.9..1.6), y = x_r + 0.2
+  // (2.2..4). The config file's extrinsics (TI, about 45 deg right) would give y < 0.
+  sensor_msgs::PointCloud2ConstIterator<float> x(cloud, "x"), y(cloud, "y");
+  for (; x != x.end(); ++x, ++y) {
+    EXPECT_GT(*y, 2.0);
+    EXPECT_LT(*y, 4.2);
+    EXPECT_GT(*x, -1.1);
+    EXPECT_LT(*x, 1.8);
+  }
 }
 
 int main(int argc, char** argv) {

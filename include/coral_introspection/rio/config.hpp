@@ -17,8 +17,8 @@ namespace rio {
 enum class UncertaintyMode {
   kFull,       // Sigma_k = A diag(sigma_r^2, Sigma_Omega) A^T (the paper's system)
   kNone,       // isotropic Cartesian sigma, constant Doppler weight, Euclidean gate
-  kNoRange,    // range part replaced by the isotropic sigma (along the beam)
-  kNoBearing,  // bearing part replaced by the isotropic sigma (across the beam)
+  kNoRange,    // without the range part (sigma_r; how: UncertaintyConfig::ablation_replace)
+  kNoBearing,  // without the bearing part (Sigma_Omega; idem)
 };
 
 struct UncertaintyConfig {
@@ -28,8 +28,14 @@ struct UncertaintyConfig {
   core::RadarNoiseConfig noise{0.105, 0.0089, 0.0088};
   double covariance_scale = 1.0;  // Sigma <- scale * Sigma (Table II: 2^alpha)
   double isotropic_sigma = 0.1;   // [m] used where the model is switched off
-  double sigma_doppler = 0.05;    // [m/s] Doppler noise floor added to every Doppler variance
-  double doppler_sigma_isotropic = 0.1;  // [m/s] Doppler sigma of the kNone / kNoBearing modes
+  // How kNoRange / kNoBearing remove their part. false (the paper, Sec. IV-B: "setting sigma_r
+  // or Sigma_Omega to a very small value"): that sigma times ablation_shrink, in the
+  // association gate and in every residual weight; true: that part replaced by
+  // isotropic_sigma (a variant of this package, not the paper's).
+  bool ablation_replace = false;
+  double ablation_shrink = 1e-3;
+  double sigma_doppler = 0.05;  // [m/s] Doppler noise floor added to every Doppler variance
+  double doppler_sigma_isotropic = 0.1;  // [m/s] Doppler sigma of the kNone mode
   double min_variance = 1e-6;            // [m^2] eigenvalue floor of Sigma_k
   std::string validate() const;
 };

@@ -6,6 +6,7 @@
 // bad messages return false / nothing with a message for a throttled log and a counter.
 #pragma once
 
+#include <geometry_msgs/Transform.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
@@ -14,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/rio/radar_factors.hpp"
 #include "coral_introspection/rio/trigger_matcher.hpp"
 #include "coral_introspection/rio/types.hpp"
 
@@ -44,6 +46,13 @@ struct RioInputCounters {
 sensor_msgs::PointCloud2 radarFrameToCloud(const rio::RadarFrame& frame,
                                            const std_msgs::Header& header,
                                            const std::string& velocity_field);
+
+// The radar pose in the body (IMU) frame from a TF transform body <- radar (what
+// tf2 lookupTransform(body_frame, radar_frame, ...) returns: p_body = R p_radar + t). False
+// with *error on a non-finite value or a quaternion whose norm is not 1 (+-1e-3; within it
+// the quaternion is normalised).
+bool extrinsicsFromTransform(const geometry_msgs::Transform& body_radar, rio::Extrinsics* out,
+                             std::string* error);
 
 class RioInput {
  public:

@@ -6,6 +6,14 @@
 //        (nav_msgs/Path), landmarks (PointCloud2, odom frame), radar_stamped (each radar
 //        frame with its measurement time and frame radar_frame when the cloud has none:
 //        the TI driver's scans carry neither, CoralNodelet needs both), /diagnostics
+// Radar-to-IMU extrinsics: from the config file (extrinsics_source "config"), or from TF
+// (extrinsics_source "tf"): looked up once, imu_frame <- radar frame (the scans' frame_id, else
+// radar_frame), when the radar frame first appears and retried on every scan until TF has it;
+// the estimator starts then (inputs before it are dropped and counted; diagnostics say which
+// transform is missing). The extrinsics are constant afterwards (the estimator assumes a rigid
+// mounting). With extrinsics from the config, publish_extrinsics_tf broadcasts them as a static
+// TF imu_frame -> radar_frame (what CoralNodelet needs to pose the scans; Debian's ROS has no
+// static_transform_publisher).
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -15,7 +23,10 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 
 #include <memory>
 #include <mutex>
@@ -31,6 +42,7 @@ class RioNodelet : public nodelet::Nodelet {
  private:
   struct Counters {
     long imu = 0, scans = 0, triggers = 0, frames = 0, tracked = 0, errors = 0;
+    long waiting_for_extrinsics = 0;  // radar frames dropped before the TF extrinsics were known
   };
 
   void onInit() override;
@@ -44,6 +56,9 @@ class RioNodelet : public nodelet::Nodelet {
   void handle(const std::vector<rio::FrameReport>& reports);
   void publish(const rio::FrameReport& r);
   void feedRadar(rio::RadarFrame f);
+  // extrinsics_source tf: looks up imu_frame_ <- radar_frame; on success starts the estimator.
+  void lookupExtrinsics(const std::string& radar_frame);
+  void startEstimator();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   std::mutex mutex_;
@@ -51,9 +66,14 @@ class RioNodelet : public nodelet::Nodelet {
   std::string odom_frame_ = "odom", base_frame_ = "base_link", radar_frame_ = "radar";
   std::string velocity_field_ = "velocity";
   double radar_time_offset_ = 0.0;
+  rio::RioConfig cfg_;
+  std::string extrinsics_source_ = "config", imu_frame_, extrinsics_from_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
   bool publish_tf_ = true;
   int max_path_length_ = 10000;
-  std::unique_ptr<rio::Estimator> estimator_;
+  std::unique_ptr<rio::Estimator> estimator_;  // null until the extrinsics are known
   std::unique_ptr<ros_adapters::RioInput> input_;
   Counters counters_;
   std::string last_problem_, last_message_;
