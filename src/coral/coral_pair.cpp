@@ -111,7 +111,11 @@ struct CoralPair::Impl {
         MomentsN<Dim> m_other = momentsNear<Dim>(other, M * q, sd.radius[k], &t);
         rotate(R_back, &m_other);
         detail::setPoint(out[i], s == 0 ? q : Vec3(T_a_b * q), s == 0, sd.radius[k]);
-        scorePoint(own<Dim>(sd, k), m_other, cfg, &out[i], &sd.h_own[k]);  // Eq. 1, 6
+        const OwnEntropy& h_own = sd.h_own[k];
+        scorePoint(own<Dim>(sd, k), m_other, cfg, &out[i], [&](double* h) {  // Eq. 1, 6
+          *h = h_own.h;
+          return h_own.ok;
+        });
       }
       tests += t;
     });

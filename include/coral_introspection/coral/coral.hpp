@@ -123,15 +123,15 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg);
 // the MME (joint_ok); it overlaps with min_neighbours in its own and min_neighbours_other
 // in the other cloud, and is valid when it overlaps and both entropies are finite.
 //
-// own_entropy: h_i(p) already computed from `own` (callers that score one point at many
-// poses compute it once); null computes it here.
+// own_entropy(&h) gives h_i(p) from `own` (true when finite): callers that score one point
+// at many poses compute it once (CoralPair); the overload without it computes it here.
 struct OwnEntropy {
   bool ok = false;  // finite entropy (own.n >= min_neighbours and a usable covariance)
   double h = 0.0;   // [nats]
 };
-template <class M>
+template <class M, class OwnH>
 void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe,
-                const OwnEntropy* own_entropy = nullptr) {
+                OwnH&& own_entropy) {
   M joint = own;
   joint += other;
   double h_joint = 0.0, h_sep = 0.0;
@@ -139,15 +139,17 @@ void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntro
                  differentialEntropy(joint.covariance(), cfg.dimension, cfg.epsilon, &h_joint);
   if (pe->joint_ok) pe->h_joint = static_cast<float>(h_joint);
   pe->overlap = own.n >= cfg.min_neighbours && other.n >= cfg.min_neighbours_other;
-  const bool own_ok =
-      pe->overlap && pe->joint_ok &&
-      (own_entropy ? (h_sep = own_entropy->h, own_entropy->ok)
-                   : differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep));
-  if (own_ok) {
+  if (pe->overlap && pe->joint_ok && own_entropy(&h_sep)) {
     pe->h_sep = static_cast<float>(h_sep);
     pe->valid = true;
   }
   pe->degenerate = pe->overlap && !pe->valid;
+}
+template <class M>
+void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe) {
+  scorePoint(own, other, cfg, pe, [&](double* h) {
+    return differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, h);
+  });
 }
 
 // E_reject (Sec. III-C (3)), H_sep / H_joint / Q (Eq. 3-5, mean or median), MME, overlap,
