@@ -55,6 +55,21 @@ void TfFeed::clearLocked(const std::string& reason) {
 bool TfFeed::lookupBeforeJump(const std::string& target, const std::string& source,
                               const ros::Time& stamp, geometry_msgs::TransformStamped* out) const {
   std::lock_guard<std::mutex> lock(mutex_);
+  return lookupBeforeJumpLocked(target, source, stamp, out);
+}
+
+bool TfFeed::lookupBeforeJumpOrWait(const std::string& target, const std::string& source,
+                                    const ros::Time& stamp, geometry_msgs::TransformStamped* out,
+                                    const std::function<void()>& wait) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (lookupBeforeJumpLocked(target, source, stamp, out)) return true;
+  wait();
+  return false;
+}
+
+bool TfFeed::lookupBeforeJumpLocked(const std::string& target, const std::string& source,
+                                    const ros::Time& stamp,
+                                    geometry_msgs::TransformStamped* out) const {
   const double now = std::max(jumps_.newest(), jumped_to_);
   if (!before_jump_ || !(stamp.toSec() > now + kJumpBack)) return false;
   try {

@@ -48,6 +48,13 @@ class TfFeed {
   // the old loop's last scan). False otherwise or when not in the snapshot.
   bool lookupBeforeJump(const std::string& target, const std::string& source,
                         const ros::Time& stamp, geometry_msgs::TransformStamped* out) const;
+  // lookupBeforeJump, and when it fails, wait() (e.g. adding the scan to a tf2 MessageFilter)
+  // under the same lock: a clear between the two would leave the scan waiting for a
+  // transform that was received and cleared meanwhile (reported as late after tf_timeout).
+  // wait() must not call back into this TfFeed.
+  bool lookupBeforeJumpOrWait(const std::string& target, const std::string& source,
+                              const ros::Time& stamp, geometry_msgs::TransformStamped* out,
+                              const std::function<void()>& wait);
 
   static constexpr double kKeep = 3.0;  // [s] of transforms kept for lookupBeforeJump
 
@@ -58,6 +65,8 @@ class TfFeed {
   };
   void onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event, bool is_static);
   void clearLocked(const std::string& reason);
+  bool lookupBeforeJumpLocked(const std::string& target, const std::string& source,
+                              const ros::Time& stamp, geometry_msgs::TransformStamped* out) const;
   void insertLocked(const geometry_msgs::TransformStamped& t, const std::string& authority,
                     bool is_static);
 
