@@ -46,7 +46,7 @@ std::string CoralConfig::validate() const {
       // Scored points leave as float (PointEntropy::position, the float32 quality cloud):
       // a wider limit would accept points whose position becomes inf.
       .require(max_abs_coordinate > 0.0 && max_abs_coordinate <= kMaxAbsCoordinate,
-               "max_abs_coordinate", "in (0, 3.4e38] m (float range of scored positions)",
+               "max_abs_coordinate", "in (0, 1e38] m (float range of scored positions)",
                max_abs_coordinate)
       .require(max_points >= 1, "max_points", ">= 1", max_points)
       .require(merge_distance >= 0.0 && merge_distance < 1.0, "merge_distance", "in [0, 1) m",

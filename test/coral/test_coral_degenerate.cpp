@@ -9,6 +9,7 @@
 
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/coral_uncertainty.hpp"
 #include "coral_introspection/coral/point_filter.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
@@ -275,7 +276,7 @@ TEST(CoralDegenerate, CoordinateLimitKeepsScoredPositionsFinite) {
   CoralConfig c;
   c.max_abs_coordinate = 1e300;
   EXPECT_NE(c.validate().find("max_abs_coordinate"), std::string::npos) << c.validate();
-  c.max_abs_coordinate = std::nextafter(kMaxAbsCoordinate, 1e300);
+  c.max_abs_coordinate = std::nextafter(kMaxAbsCoordinate, 1e300);  // 1e38 is the largest
   EXPECT_NE(c.validate().find("max_abs_coordinate"), std::string::npos) << c.validate();
   c = lidarConfig();
   c.max_abs_coordinate = kMaxAbsCoordinate;  // the widest valid limit
@@ -292,7 +293,11 @@ TEST(CoralDegenerate, CoordinateLimitKeepsScoredPositionsFinite) {
   EXPECT_EQ(r.num_points_b, 28u);
   ASSERT_EQ(r.per_point.size(), 55u);
   for (const PointEntropy& pe : r.per_point) EXPECT_TRUE(pe.position.allFinite());
-  EXPECT_FLOAT_EQ(r.per_point.back().position.y(), std::numeric_limits<float>::max());
+  EXPECT_FLOAT_EQ(r.per_point.back().position.y(), static_cast<float>(kMaxAbsCoordinate));
+  // Moved by a pose (CoralPair: b's points rotated and shifted into a's frame).
+  const CoralResult rp = CoralPair(a, b, c).evaluate(se2(1.0, -2.0, M_PI / 4));
+  ASSERT_EQ(rp.per_point.size(), 55u);
+  for (const PointEntropy& pe : rp.per_point) EXPECT_TRUE(pe.position.allFinite());
   // The covariance-shaped variant applies the same limit.
   UncertainCoralConfig u;
   u.base = c;

@@ -82,7 +82,7 @@ CoralConfig readConfig(FuzzInput& in) {
   c.max_queries = queries[in.byte() % 4];
   c.query_seed = in.byte();
   c.threads = in.range(1, 2);
-  // Up to the widest valid limit (float range, 3.4e38 m): the grid must stay defined
+  // Up to the widest valid limit (kMaxAbsCoordinate, 1e38 m): the grid must stay defined
   // however far the accepted points are; points at 1e300 are then dropped and counted.
   const double limit[] = {1e7, 1e3, 1e19, 1e30, kMaxAbsCoordinate};
   c.max_abs_coordinate = limit[in.byte() % 5];

@@ -15,8 +15,9 @@ namespace core {
 enum class Aggregation { kMean, kMedian };  // CorAl vs CorAl-median (Sec. IV-1c)
 
 // Largest valid CoralConfig::max_abs_coordinate [m]: scored points are stored as float
-// (PointEntropy::position), so an accepted coordinate must be within float range.
-constexpr double kMaxAbsCoordinate = static_cast<double>(std::numeric_limits<float>::max());
+// (PointEntropy::position, max 3.4e38), also after a rigid motion (CoralPair moves b's
+// points by the pose: |R p + t| <= sqrt(3) 1e38 + |t| for |coordinates| <= 1e38).
+constexpr double kMaxAbsCoordinate = 1e38;
 
 // Every CorAl default lives here. Units: metres, degrees, nats.
 struct CoralConfig {
