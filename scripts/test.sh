@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds the package and every test, then runs
+# Checks the shared data is there when expected (scripts/check_data.sh), installs what is
+# needed, builds the package and every test, then runs
 #   1. every test through ctest (gtest of the libraries and the ROS layer, rostest of the
 #      nodelet);
 #   2. scripts/check_format.sh: every tracked C++ file formatted by .clang-format;
@@ -11,6 +12,13 @@
 # any failure. Idempotent: installed packages and built objects are reused.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
+# Expected but missing shared data fails the real-data tests: say so in a second, before
+# installing and building for half an hour (scripts/check_data.sh; a note when not expected).
+if ! bash "${CORAL_REPO}/scripts/check_data.sh"; then
+  echo "=== test summary"
+  echo "  FAIL  shared data (scripts/check_data.sh): nothing built or run"
+  exit 1
+fi
 bash "${CORAL_REPO}/scripts/install_deps.sh"
 coral_build tests
 
@@ -27,10 +35,8 @@ run "clang-format (scripts/check_format.sh)" bash "${CORAL_REPO}/scripts/check_f
 run "install space (scripts/check_install.sh)" bash "${CORAL_REPO}/scripts/check_install.sh"
 run "ASan + UBSan gtests (scripts/test_sanitizers.sh)" bash "${CORAL_REPO}/scripts/test_sanitizers.sh"
 # A short fixed budget per harness (the long runs: scripts/fuzz.sh with its default 10^6).
-# fuzz_coral joins once per-point positions beyond float range are handled (it finds them
-# with max_abs_coordinate 1e300: PointEntropy::position is float and becomes inf).
 run "fuzz, ${CORAL_FUZZ_RUNS:-20000} runs per harness (scripts/fuzz.sh)" \
-  bash "${CORAL_REPO}/scripts/fuzz.sh" "${CORAL_FUZZ_RUNS:-20000}" polar_rip cloud_conversion
+  bash "${CORAL_REPO}/scripts/fuzz.sh" "${CORAL_FUZZ_RUNS:-20000}" polar_rip cloud_conversion coral
 
 echo "=== test summary"
 failed=0

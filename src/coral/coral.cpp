@@ -43,7 +43,11 @@ std::string CoralConfig::validate() const {
                voxel_leaf)
       .require(max_queries >= 0, "max_queries", ">= 0 (0 = every point)", max_queries)
       .require(threads >= 1 && threads <= 64, "threads", "in [1, 64]", threads)
-      .require(max_abs_coordinate > 0.0, "max_abs_coordinate", "> 0 m", max_abs_coordinate)
+      // Scored points leave as float (PointEntropy::position, the float32 quality cloud):
+      // a wider limit would accept points whose position becomes inf.
+      .require(max_abs_coordinate > 0.0 && max_abs_coordinate <= kMaxAbsCoordinate,
+               "max_abs_coordinate", "in (0, 1e38] m (float range of scored positions)",
+               max_abs_coordinate)
       .require(max_points >= 1, "max_points", ">= 1", max_points)
       .require(merge_distance >= 0.0 && merge_distance < 1.0, "merge_distance", "in [0, 1) m",
                merge_distance)

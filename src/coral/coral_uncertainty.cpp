@@ -8,6 +8,7 @@
 
 #include "coral_introspection/coral/entropy.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
+#include "coral_introspection/coral/point_filter.hpp"
 
 namespace coral_introspection {
 namespace core {
@@ -89,9 +90,11 @@ CoralResult computeCoralUncertain(const Scan& a_in, const Scan& b_in,
                                   const UncertainCoralConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
   Scan a = a_in, b = b_in;
-  removeNonFinite(a);
-  removeNonFinite(b);
   CoralResult res;
+  // The input hygiene of computeCoral: NaN/Inf and points beyond max_abs_coordinate are
+  // dropped and counted (covariances follow their points).
+  removeUnusable(a, cfg.base.max_abs_coordinate, &res.num_non_finite, &res.num_out_of_range);
+  removeUnusable(b, cfg.base.max_abs_coordinate, &res.num_non_finite, &res.num_out_of_range);
   res.num_points_a = a.points.size();
   res.num_points_b = b.points.size();
   const double cell = std::max(cfg.base.r_max, cfg.base.maxRadius());

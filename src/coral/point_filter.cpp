@@ -28,9 +28,7 @@ const Points& usablePoints(const Points& in, double max_abs, Points* storage,
                            std::size_t* non_finite, std::size_t* out_of_range) {
   *non_finite = *out_of_range = 0;
   // |v| <= max_abs is false for NaN, so one test per coordinate finds both kinds.
-  const auto usable = [max_abs](const Vec3& p) {
-    return std::abs(p.x()) <= max_abs && std::abs(p.y()) <= max_abs && std::abs(p.z()) <= max_abs;
-  };
+  const auto usable = [max_abs](const Vec3& p) { return isUsablePoint(p, max_abs); };
   if (std::all_of(in.begin(), in.end(), usable)) return in;
   storage->clear();
   storage->reserve(in.size());
@@ -41,6 +39,23 @@ const Points& usablePoints(const Points& in, double max_abs, Points* storage,
       ++*(p.allFinite() ? out_of_range : non_finite);
   }
   return *storage;
+}
+
+void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite,
+                    std::size_t* out_of_range) {
+  const bool with_cov = scan.covariances.size() == scan.points.size();
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+    if (!isUsablePoint(scan.points[i], max_abs)) {
+      ++*(scan.points[i].allFinite() ? out_of_range : non_finite);
+      continue;
+    }
+    scan.points[kept] = scan.points[i];
+    if (with_cov) scan.covariances[kept] = scan.covariances[i];
+    ++kept;
+  }
+  scan.points.resize(kept);
+  if (with_cov) scan.covariances.resize(kept);
 }
 
 Points strideSubsample(const Points& in, std::size_t max_points) {

@@ -18,21 +18,6 @@ Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src) {
   return out;
 }
 
-std::size_t removeNonFinite(Scan& scan) {
-  const bool with_cov = scan.covariances.size() == scan.points.size();
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < scan.points.size(); ++i) {
-    if (!scan.points[i].allFinite()) continue;
-    scan.points[kept] = scan.points[i];
-    if (with_cov) scan.covariances[kept] = scan.covariances[i];
-    ++kept;
-  }
-  const std::size_t removed = scan.points.size() - kept;
-  scan.points.resize(kept);
-  if (with_cov) scan.covariances.resize(kept);
-  return removed;
-}
-
 Eigen::Isometry3d se2(double x, double y, double yaw) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(yaw, Vec3::UnitZ()).toRotationMatrix();

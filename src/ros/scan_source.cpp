@@ -91,10 +91,11 @@ void ScanSource::onArrival(const Event<M>& event, tf2_ros::MessageFilter<M>& fil
         stats_->waitForTf(h, event.getReceiptTime());
         // A scan of before a time jump whose transforms were cleared (the next loop's TF
         // overtook it): posed from the snapshot at once, it would wait in vain otherwise.
+        // Otherwise it waits for TF, added under the feed's lock (no clear in between).
         geometry_msgs::TransformStamped before;
-        if (tf_feed_.lookupBeforeJump(cfg_.fixed_frame, h.frame_id, h.stamp, &before))
-          return onScan(event);
-        filter.add(event);
+        if (tf_feed_.lookupBeforeJumpOrWait(cfg_.fixed_frame, h.frame_id, h.stamp, &before,
+                                            [&] { filter.add(event); }))
+          onScan(event);
       },
       [this](const std::string& e) { countError(e); });
 }

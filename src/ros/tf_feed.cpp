@@ -1,5 +1,6 @@
 #include "coral_introspection/ros/tf_feed.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 namespace coral_introspection {
@@ -31,6 +32,10 @@ bool TfFeed::clearBefore(double stamp, const std::string& reason) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!(jumps_.newest() > stamp + kJumpBack)) return false;
   clearLocked(reason);
+  // The stream is at `stamp` now, although no transform of the new loop has arrived yet:
+  // without this, this very scan (and the next ones) would be posed from the snapshot and
+  // overtake the old loop's last scan still waiting for its transform.
+  jumped_to_ = stamp;
   return true;
 }
 
@@ -43,13 +48,30 @@ void TfFeed::clearLocked(const std::string& reason) {
   recent_.clear();
   buffer_->clear();
   jumps_.reset();
+  jumped_to_ = 0.0;
   if (on_clear_) on_clear_(reason);
 }
 
 bool TfFeed::lookupBeforeJump(const std::string& target, const std::string& source,
                               const ros::Time& stamp, geometry_msgs::TransformStamped* out) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!before_jump_ || !(stamp.toSec() > jumps_.newest() + kJumpBack)) return false;
+  return lookupBeforeJumpLocked(target, source, stamp, out);
+}
+
+bool TfFeed::lookupBeforeJumpOrWait(const std::string& target, const std::string& source,
+                                    const ros::Time& stamp, geometry_msgs::TransformStamped* out,
+                                    const std::function<void()>& wait) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (lookupBeforeJumpLocked(target, source, stamp, out)) return true;
+  wait();
+  return false;
+}
+
+bool TfFeed::lookupBeforeJumpLocked(const std::string& target, const std::string& source,
+                                    const ros::Time& stamp,
+                                    geometry_msgs::TransformStamped* out) const {
+  const double now = std::max(jumps_.newest(), jumped_to_);
+  if (!before_jump_ || !(stamp.toSec() > now + kJumpBack)) return false;
   try {
     *out = before_jump_->lookupTransform(target, source, stamp);
     return true;

@@ -9,6 +9,8 @@
 
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/coral_pair.hpp"
+#include "coral_introspection/coral/coral_uncertainty.hpp"
 #include "coral_introspection/coral/point_filter.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 
@@ -167,7 +169,7 @@ TEST(CoralDegenerate, FarAndNonFinitePointsAreDroppedAndCounted) {
   // Kept (range check off), the 1e30 point sits alone in the clamped outer cells: the rest
   // of the pair is scored exactly as before.
   CoralConfig wide = cfg;
-  wide.max_abs_coordinate = std::numeric_limits<double>::max();
+  wide.max_abs_coordinate = kMaxAbsCoordinate;
   Scan far = b;
   far.points.push_back(Vec3(1e30, 0.0, 0.0));
   const CoralResult rf = computeCoral(a, far, wide);
@@ -266,4 +268,43 @@ TEST(CoralDegenerate, ConfigValidation) {
   c = CoralConfig();
   c.max_degenerate_fraction = 1.5;
   EXPECT_NE(c.validate().find("max_degenerate_fraction"), std::string::npos);
+}
+
+// Scored points are stored as float (PointEntropy::position): the coordinate limit cannot
+// accept a point whose position would be inf (found by fuzz_coral with a limit of 1e300).
+TEST(CoralDegenerate, CoordinateLimitKeepsScoredPositionsFinite) {
+  CoralConfig c;
+  c.max_abs_coordinate = 1e300;
+  EXPECT_NE(c.validate().find("max_abs_coordinate"), std::string::npos) << c.validate();
+  c.max_abs_coordinate = std::nextafter(kMaxAbsCoordinate, 1e300);  // 1e38 is the largest
+  EXPECT_NE(c.validate().find("max_abs_coordinate"), std::string::npos) << c.validate();
+  c = lidarConfig();
+  c.max_abs_coordinate = kMaxAbsCoordinate;  // the widest valid limit
+  ASSERT_EQ(c.validate(), "");
+  // A 3 x 3 x 3 grid at 0.2 m in both scans, a point at the limit (kept, alone) and one at
+  // 1e300 (dropped, counted) in b.
+  Scan a, b;
+  for (int i = 0; i < 27; ++i) a.points.push_back(0.2 * Vec3(i % 3, (i / 3) % 3, i / 9));
+  b.points = a.points;
+  b.points.push_back(Vec3(0.0, kMaxAbsCoordinate, 0.0));
+  b.points.push_back(Vec3(1e300, 0.0, 0.0));
+  const CoralResult r = computeCoral(a, b, c);
+  EXPECT_EQ(r.num_out_of_range, 1u);
+  EXPECT_EQ(r.num_points_b, 28u);
+  ASSERT_EQ(r.per_point.size(), 55u);
+  for (const PointEntropy& pe : r.per_point) EXPECT_TRUE(pe.position.allFinite());
+  EXPECT_FLOAT_EQ(r.per_point.back().position.y(), static_cast<float>(kMaxAbsCoordinate));
+  // Moved by a pose (CoralPair: b's points rotated and shifted into a's frame).
+  const CoralResult rp = CoralPair(a, b, c).evaluate(se2(1.0, -2.0, M_PI / 4));
+  ASSERT_EQ(rp.per_point.size(), 55u);
+  for (const PointEntropy& pe : rp.per_point) EXPECT_TRUE(pe.position.allFinite());
+  // The covariance-shaped variant applies the same limit.
+  UncertainCoralConfig u;
+  u.base = c;
+  ASSERT_EQ(u.validate(), "");
+  const CoralResult ru = computeCoralUncertain(a, b, u);
+  EXPECT_EQ(ru.num_out_of_range, 1u);
+  EXPECT_EQ(ru.num_points_b, 28u);
+  ASSERT_EQ(ru.per_point.size(), 55u);
+  for (const PointEntropy& pe : ru.per_point) EXPECT_TRUE(pe.position.allFinite());
 }

@@ -2,10 +2,10 @@
 // Each point starts with a control byte choosing how its coordinates are read: small
 // quantised values (clusters with neighbours), raw float32 or float64 (NaN, Inf, denormals,
 // huge values), or a cluster point shifted by a special value (1e10, 9.3e18, 1e30, -1e300,
-// denormal, ...). The config covers the input hygiene (coordinate limit up to 1e300,
-// max_points, merging), the voxel filter and the query subset. The result must be defined
-// whatever the input: finite aggregates, counts that add up, and no verdict without
-// overlapping points or with a reason.
+// denormal, ...). The config covers the input hygiene (coordinate limit up to the float
+// range of scored positions, max_points, merging), the voxel filter and the query subset.
+// The result must be defined whatever the input: finite aggregates, counts that add up, and no
+// verdict without overlapping points or with a reason.
 #include <cmath>
 #include <limits>
 
@@ -82,8 +82,9 @@ CoralConfig readConfig(FuzzInput& in) {
   c.max_queries = queries[in.byte() % 4];
   c.query_seed = in.byte();
   c.threads = in.range(1, 2);
-  // Up to 1e300 m: the grid must stay defined however far the accepted points are.
-  const double limit[] = {1e7, 1e3, 1e19, 1e30, 1e300};
+  // Up to the widest valid limit (kMaxAbsCoordinate, 1e38 m): the grid must stay defined
+  // however far the accepted points are; points at 1e300 are then dropped and counted.
+  const double limit[] = {1e7, 1e3, 1e19, 1e30, kMaxAbsCoordinate};
   c.max_abs_coordinate = limit[in.byte() % 5];
   c.max_points = in.range(1, 255) + in.range(0, 1) * 1000;
   c.refuse_over_max_points = in.byte() & 1;

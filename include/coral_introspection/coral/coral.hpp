@@ -2,6 +2,7 @@
 // (paper: coral_radar_lidar_introspection, Sec. III-B and III-C).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,11 @@ namespace coral_introspection {
 namespace core {
 
 enum class Aggregation { kMean, kMedian };  // CorAl vs CorAl-median (Sec. IV-1c)
+
+// Largest valid CoralConfig::max_abs_coordinate [m]: scored points are stored as float
+// (PointEntropy::position, max 3.4e38), also after a rigid motion (CoralPair moves b's
+// points by the pose: |R p + t| <= sqrt(3) 1e38 + |t| for |coordinates| <= 1e38).
+constexpr double kMaxAbsCoordinate = 1e38;
 
 // Every CorAl default lives here. Units: metres, degrees, nats.
 struct CoralConfig {
@@ -40,7 +46,8 @@ struct CoralConfig {
   int threads = 1;     // worker threads (std::thread); results do not depend on it
 
   // Degenerate and unbounded input: named and counted, never scored.
-  double max_abs_coordinate = 1e7;  // [m] points with a larger |coordinate| are dropped
+  double max_abs_coordinate = 1e7;  // [m] points with a larger |coordinate| are dropped,
+                                    // at most kMaxAbsCoordinate
   // [points per scan] of usable input; a larger scan is thinned by a deterministic stride
   // (or, with refuse_over_max_points, the pair is not judged): bounds the work per pair.
   int max_points = 1000000;

@@ -6,15 +6,26 @@
 //    a cluster neither dominates its neighbours' covariances nor costs its square.
 #pragma once
 
+#include <cmath>
+
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
 namespace core {
 
+// A point CorAl may use: every coordinate finite with |c| <= max_abs (false for NaN).
+inline bool isUsablePoint(const Vec3& p, double max_abs) {
+  return std::abs(p.x()) <= max_abs && std::abs(p.y()) <= max_abs && std::abs(p.z()) <= max_abs;
+}
+
 // The input itself when every point is finite with |x|, |y|, |z| <= max_abs (no copy),
 // otherwise the usable points in *storage (order kept). Counts what was dropped.
 const Points& usablePoints(const Points& in, double max_abs, Points* storage,
                            std::size_t* non_finite, std::size_t* out_of_range);
+
+// Removes the points that are not usable (and their covariances, when there is one per
+// point) from the scan, order kept. Counts what was dropped.
+void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite, std::size_t* out_of_range);
 
 // Every (n / max_points)-th point (a deterministic stride, order kept) so that exactly
 // max_points remain; the input when it is not larger.

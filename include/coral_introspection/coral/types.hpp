@@ -28,9 +28,6 @@ struct Scan {
 // Applies T_dst_src to every point, the origin and the covariances (R S R^T).
 Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src);
 
-// Removes points with a NaN/Inf coordinate. Returns the number removed.
-std::size_t removeNonFinite(Scan& scan);
-
 // SE(2) pose (x, y, yaw) as an Isometry3d rotating about z.
 Eigen::Isometry3d se2(double x, double y, double yaw);
 

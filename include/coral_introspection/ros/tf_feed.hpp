@@ -43,10 +43,18 @@ class TfFeed {
   // scan waits for the new loop's transform instead of failing as too old. True if cleared.
   bool clearBefore(double stamp, const std::string& reason);
   // The pose target <- source at `stamp` for a scan of before the last clear: only when the
-  // stamp is ahead of every transform received since (newest + kJumpBack), so a scan of the
-  // new loop never gets a pose of the old one. False otherwise or when not in the snapshot.
+  // stamp is ahead of every transform received since and of the scan that caused the clear
+  // (+ kJumpBack), so a scan of the new loop never gets a pose of the old one (nor overtakes
+  // the old loop's last scan). False otherwise or when not in the snapshot.
   bool lookupBeforeJump(const std::string& target, const std::string& source,
                         const ros::Time& stamp, geometry_msgs::TransformStamped* out) const;
+  // lookupBeforeJump, and when it fails, wait() (e.g. adding the scan to a tf2 MessageFilter)
+  // under the same lock: a clear between the two would leave the scan waiting for a
+  // transform that was received and cleared meanwhile (reported as late after tf_timeout).
+  // wait() must not call back into this TfFeed.
+  bool lookupBeforeJumpOrWait(const std::string& target, const std::string& source,
+                              const ros::Time& stamp, geometry_msgs::TransformStamped* out,
+                              const std::function<void()>& wait);
 
   static constexpr double kKeep = 3.0;  // [s] of transforms kept for lookupBeforeJump
 
@@ -57,6 +65,8 @@ class TfFeed {
   };
   void onTf(const ros::MessageEvent<tf2_msgs::TFMessage const>& event, bool is_static);
   void clearLocked(const std::string& reason);
+  bool lookupBeforeJumpLocked(const std::string& target, const std::string& source,
+                              const ros::Time& stamp, geometry_msgs::TransformStamped* out) const;
   void insertLocked(const geometry_msgs::TransformStamped& t, const std::string& authority,
                     bool is_static);
 
@@ -64,6 +74,7 @@ class TfFeed {
   std::function<void(const std::string&)> on_clear_;
   mutable std::mutex mutex_;  // jumps_, last_now_, and clear + insert as one step
   online::BackwardsJump jumps_{kJumpBack};
+  double jumped_to_ = 0.0;  // [s] stamp of the scan whose jump cleared (0: a TF clear)
   ros::Time last_now_;
   std::deque<Received> recent_;                   // non-static, stamps >= newest - kKeep
   std::map<std::string, Received> statics_;       // latest static transform per child frame
