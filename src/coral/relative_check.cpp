@@ -15,16 +15,24 @@ std::string RelativeCheckConfig::validate() const {
       .str();
 }
 
+std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
+                                          const Eigen::Isometry3d& T_a_b,
+                                          const std::vector<ToleranceOffset>& offsets,
+                                          const CoralConfig& cfg) {
+  CoralConfig c = cfg;
+  c.per_point = false;  // only the aggregates are compared
+  std::vector<CoralResult> out;
+  for (const ToleranceOffset& o : offsets)
+    out.push_back(computeCoral(a, transformScan(b, T_a_b * o.delta), c));
+  return out;
+}
+
 std::vector<double> neighbourQualities(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                        const std::vector<ToleranceOffset>& offsets,
                                        const CoralConfig& cfg) {
-  CoralConfig c = cfg;
-  c.per_point = false;  // only the aggregate Q is compared
   std::vector<double> q;
-  for (const ToleranceOffset& o : offsets) {
-    const CoralResult r = computeCoral(a, transformScan(b, T_a_b * o.delta), c);
+  for (const CoralResult& r : neighbourResults(a, b, T_a_b, offsets, cfg))
     q.push_back(r.valid ? r.quality : std::numeric_limits<double>::quiet_NaN());
-  }
   return q;
 }
 

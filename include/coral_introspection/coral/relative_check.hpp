@@ -58,8 +58,15 @@ struct RelativeCheckResult {
   int coral_evaluations = 0;  // computeCoral calls made (0 for decideRelative)
 };
 
-// Q of the pair with b moved by T_a_b * offset.delta, for each offset (NaN when CorAl has
-// no valid result there). a in the common frame, b in its own sensor frame.
+// CorAl of the pair with b moved by T_a_b * offset.delta, for each offset (no per-point
+// output). a in the common frame, b in its own sensor frame. Online self-calibration keeps
+// (H_joint, H_sep) of each as a misaligned sample.
+std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
+                                          const Eigen::Isometry3d& T_a_b,
+                                          const std::vector<ToleranceOffset>& offsets,
+                                          const CoralConfig& cfg);
+
+// Q of neighbourResults (NaN where CorAl has no valid result).
 std::vector<double> neighbourQualities(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                        const std::vector<ToleranceOffset>& offsets,
                                        const CoralConfig& cfg);
