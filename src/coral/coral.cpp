@@ -8,6 +8,7 @@
 #include <iterator>
 #include <random>
 
+#include "coral_detail.hpp"
 #include "coral_introspection/coral/entropy.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
 #include "coral_introspection/coral/parallel.hpp"
@@ -72,6 +73,10 @@ double dynamicRadius(const CoralConfig& cfg, double distance) {
 
 namespace {
 
+using detail::addWithin;
+using detail::pointRadius;
+using detail::setPoint;
+
 double median(std::vector<double>& v) {
   const std::size_t mid = v.size() / 2;
   std::nth_element(v.begin(), v.begin() + mid, v.end());
@@ -86,27 +91,6 @@ double aggregate(std::vector<double>& v, Aggregation agg) {
   double s = 0.0;
   for (double x : v) s += x;
   return s / static_cast<double>(v.size());
-}
-
-// Adds the points of [begin, end) within sqrt(r2) of p to m, centred on p.
-template <int Dim>
-void addWithin(const Vec3* begin, const Vec3* end, const Vec3& p, double r2, MomentsN<Dim>& m) {
-  for (const Vec3* x = begin; x != end; ++x) {
-    const typename MomentsN<Dim>::V d = (*x - p).template head<Dim>();
-    if (d.squaredNorm() <= r2) m.add(d);
-  }
-}
-
-template <int Dim>
-double pointRadius(const CoralConfig& cfg, const Vec3& p, const Vec3& origin) {
-  if (!cfg.dynamic_radius) return cfg.radius;  // no distance (square root) needed
-  return dynamicRadius(cfg, (p - origin).template head<Dim>().norm());
-}
-
-void setPoint(PointEntropy& pe, const Vec3& p, bool in_a, double radius) {
-  pe.position = p.cast<float>();
-  pe.scan = in_a ? 0 : 1;
-  pe.radius = static_cast<float>(radius);
 }
 
 // Scores every point of both clouds (the grid's cell size is the largest radius). Cells are
@@ -175,11 +159,26 @@ std::size_t scoreQueries(const NeighbourGrid& grid, const std::vector<uint32_t>&
   return tests;
 }
 
+// Standard error of the mean of v as an estimate of the mean over a population of n_pop
+// (finite-population correction; 0 when the whole population was scored).
+double standardError(const std::vector<double>& v, double sample_fraction, Aggregation agg) {
+  if (v.size() < 2 || sample_fraction >= 1.0) return 0.0;
+  double mean = 0.0, ss = 0.0;
+  for (double x : v) mean += x;
+  mean /= static_cast<double>(v.size());
+  for (double x : v) ss += (x - mean) * (x - mean);
+  const double var = ss / static_cast<double>(v.size() - 1);
+  const double se = std::sqrt((1.0 - sample_fraction) * var / static_cast<double>(v.size()));
+  return agg == Aggregation::kMedian ? se * std::sqrt(M_PI / 2.0) : se;  // normal approx.
+}
+
+}  // namespace
+
 // Stratified subset of each scan: its points in grid order (cells in order of appearance,
 // so spatially grouped) are split into max_queries equal strata and one point is taken at
 // the same seeded offset in each (systematic sampling: every point has the inclusion
 // probability max_queries / n). Returns positions in the grid's sorted points, a's first.
-std::vector<uint32_t> selectQueries(const NeighbourGrid& grid, const CoralConfig& cfg) {
+std::vector<uint32_t> detail::selectQueries(const NeighbourGrid& grid, const CoralConfig& cfg) {
   std::vector<uint32_t> in_grid[2];
   for (std::size_t c = 0; c < grid.numCells(); ++c) {
     const NeighbourGrid::Range r = grid.cellPoints(c);
@@ -212,24 +211,9 @@ std::vector<uint32_t> selectQueries(const NeighbourGrid& grid, const CoralConfig
 // much finer than the radius cost more in hash lookups than they save in distance tests
 // (measured on 64-beam clouds voxelised to r / 5: r / 2 cells took 1.2x the instructions of
 // r cells), hence about the radius.
-double queryCellSize(const CoralConfig& cfg) {
+double detail::queryCellSize(const CoralConfig& cfg) {
   return cfg.dynamic_radius ? std::max(cfg.r_min, 0.5 * cfg.r_max) : cfg.radius;
 }
-
-// Standard error of the mean of v as an estimate of the mean over a population of n_pop
-// (finite-population correction; 0 when the whole population was scored).
-double standardError(const std::vector<double>& v, double sample_fraction, Aggregation agg) {
-  if (v.size() < 2 || sample_fraction >= 1.0) return 0.0;
-  double mean = 0.0, ss = 0.0;
-  for (double x : v) mean += x;
-  mean /= static_cast<double>(v.size());
-  for (double x : v) ss += (x - mean) * (x - mean);
-  const double var = ss / static_cast<double>(v.size() - 1);
-  const double se = std::sqrt((1.0 - sample_fraction) * var / static_cast<double>(v.size()));
-  return agg == Aggregation::kMedian ? se * std::sqrt(M_PI / 2.0) : se;  // normal approx.
-}
-
-}  // namespace
 
 void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, CoralResult* res) {
   // Sec. III-C (3): drop the E_reject fraction of valid points with the lowest h_sep.
@@ -306,35 +290,38 @@ void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, 
   if (cfg.per_point) res->per_point = std::move(per_point);
 }
 
-CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
-  const auto t0 = std::chrono::steady_clock::now();
-  CoralResult res;
+bool detail::prepareClouds(const Points& a, const Points& b, const CoralConfig& cfg,
+                           PreparedClouds* out, CoralResult* res) {
   // Input hygiene, then the voxel filter: every step counts what it removed.
-  Points storage[2], thinned[2], merged[2], voxels[2];
-  const Points* clouds[2] = {&a.points, &b.points};
+  Points* storage = out->storage;
+  Points* thinned = out->thinned;
+  Points* merged = out->merged;
+  Points* voxels = out->voxels;
+  const Points** clouds = out->cloud;
+  clouds[0] = &a;
+  clouds[1] = &b;
   std::size_t usable[2] = {0, 0};
   for (int s = 0; s < 2; ++s) {
     std::size_t non_finite = 0, out_of_range = 0;
     clouds[s] =
         &usablePoints(*clouds[s], cfg.max_abs_coordinate, &storage[s], &non_finite, &out_of_range);
-    res.num_non_finite += non_finite;
-    res.num_out_of_range += out_of_range;
+    res->num_non_finite += non_finite;
+    res->num_out_of_range += out_of_range;
     usable[s] = clouds[s]->size();
   }
-  res.num_points_a = usable[0];
-  res.num_points_b = usable[1];
+  res->num_points_a = usable[0];
+  res->num_points_b = usable[1];
   const auto max_points = static_cast<std::size_t>(cfg.max_points);
   if (usable[0] > max_points || usable[1] > max_points) {
     if (cfg.refuse_over_max_points) {
-      res.reason = "a scan has " + std::to_string(std::max(usable[0], usable[1])) +
-                   " points, more than max_points " + std::to_string(max_points) + " (refused)";
-      res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      return res;
+      res->reason = "a scan has " + std::to_string(std::max(usable[0], usable[1])) +
+                    " points, more than max_points " + std::to_string(max_points) + " (refused)";
+      return false;
     }
     for (int s = 0; s < 2; ++s) {
       if (usable[s] <= max_points) continue;
       thinned[s] = strideSubsample(*clouds[s], max_points);
-      res.num_thinned += usable[s] - max_points;
+      res->num_thinned += usable[s] - max_points;
       clouds[s] = &thinned[s];
     }
   }
@@ -355,18 +342,30 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
         }
       }
     });
-    res.num_merged = removed[0] + removed[1];
+    res->num_merged = removed[0] + removed[1];
   }
-  const Points& pa = *clouds[0];
-  const Points& pb = *clouds[1];
-  res.num_used_a = pa.size();
-  res.num_used_b = pb.size();
+  res->num_used_a = clouds[0]->size();
+  res->num_used_b = clouds[1]->size();
+  return true;
+}
+
+CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CoralResult res;
+  detail::PreparedClouds prepared;
+  if (!detail::prepareClouds(a.points, b.points, cfg, &prepared, &res)) {
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return res;
+  }
+  const Points& pa = *prepared.cloud[0];
+  const Points& pb = *prepared.cloud[1];
   const auto m = static_cast<std::size_t>(cfg.max_queries);
   const bool subset = m > 0 && (pa.size() > m || pb.size() > m);
-  const NeighbourGrid grid(pa, pb, subset ? queryCellSize(cfg) : cfg.maxRadius(), cfg.dimension);
+  const NeighbourGrid grid(pa, pb, subset ? detail::queryCellSize(cfg) : cfg.maxRadius(),
+                           cfg.dimension);
   std::vector<PointEntropy> per_point;
   if (subset) {
-    const std::vector<uint32_t> queries = selectQueries(grid, cfg);
+    const std::vector<uint32_t> queries = detail::selectQueries(grid, cfg);
     per_point.resize(queries.size());
     auto score = cfg.dimension == 2 ? scoreQueries<2> : scoreQueries<3>;
     res.num_distance_tests = score(grid, queries, pa.size(), a.origin, b.origin, cfg, per_point);

@@ -12,6 +12,7 @@ std::string RelativeCheckConfig::validate() const {
   return Problems()
       .require(margin >= 0.0 && margin < 2.0, "relative_margin", "in [0, 2)", margin)
       .require(flat_ratio >= 0.0 && flat_ratio < 1.0, "flat_ratio", "in [0, 1)", flat_ratio)
+      .require(probe_queries >= 0, "probe_queries", ">= 0 (0 = every CorAl query)", probe_queries)
       .str();
 }
 
@@ -20,19 +21,20 @@ std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
                                           const std::vector<ToleranceOffset>& offsets,
                                           const CoralConfig& cfg) {
   CoralConfig c = cfg;
-  c.per_point = false;  // only the aggregates are compared
+  c.per_point = false;  // only the aggregates are kept
+  const CoralPair pair(a, b, c);
   std::vector<CoralResult> out;
-  for (const ToleranceOffset& o : offsets)
-    out.push_back(computeCoral(a, transformScan(b, T_a_b * o.delta), c));
+  for (const ToleranceOffset& o : offsets) out.push_back(pair.evaluate(T_a_b * o.delta));
   return out;
 }
 
-std::vector<double> neighbourQualities(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
-                                       const std::vector<ToleranceOffset>& offsets,
-                                       const CoralConfig& cfg) {
+std::vector<double> neighbourQualities(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                       const std::vector<ToleranceOffset>& offsets) {
   std::vector<double> q;
-  for (const CoralResult& r : neighbourResults(a, b, T_a_b, offsets, cfg))
+  for (const ToleranceOffset& o : offsets) {
+    const CoralResult r = pair.evaluateProbe(T_a_b * o.delta);
     q.push_back(r.valid ? r.quality : std::numeric_limits<double>::quiet_NaN());
+  }
   return q;
 }
 
@@ -83,17 +85,14 @@ RelativeCheckResult decideRelative(double q, const std::vector<ToleranceOffset>&
   return r;
 }
 
-RelativeCheckResult relativeCheck(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
-                                  const CoralResult& at_pose, const CoralConfig& coral,
+RelativeCheckResult relativeCheck(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                  const CoralResult& at_pose_probe, int dimension,
                                   const ToleranceConfig& tolerance,
                                   const RelativeCheckConfig& cfg) {
-  const std::vector<ToleranceOffset> offsets = toleranceOffsets(tolerance, coral.dimension);
-  if (!at_pose.valid) {  // no Q to compare with: do not spend the neighbour evaluations
-    RelativeCheckResult r;
-    return r;
-  }
-  RelativeCheckResult r = decideRelative(at_pose.quality, offsets,
-                                         neighbourQualities(a, b, T_a_b, offsets, coral), cfg);
+  if (!at_pose_probe.valid) return RelativeCheckResult();  // no Q to compare with: no probes
+  const std::vector<ToleranceOffset> offsets = toleranceOffsets(tolerance, dimension);
+  RelativeCheckResult r =
+      decideRelative(at_pose_probe.quality, offsets, neighbourQualities(pair, T_a_b, offsets), cfg);
   r.coral_evaluations = static_cast<int>(offsets.size());
   return r;
 }

@@ -71,26 +71,24 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
   }
 }
 
-void decideAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
-                     const CoralConfig& coral, const VerdictConfig& cfg, AlignmentVerdict* v) {
-  v->relative = RelativeCheckResult();
-  if (!v->coral.valid) {
-    v->valid = v->aligned = false;
-    v->probability = 0.0;
-    v->reason = "CorAl has no valid result (overlap " + std::to_string(v->coral.overlap) + ")";
-    return;
-  }
-  v->classifier = classify(cfg.classifier, v->coral.h_joint, v->coral.h_sep);  // Eq. 9-10
-  if (cfg.method != VerdictMethod::kClassifier)
-    v->relative = relativeCheck(a, b, T_a_b, v->coral, coral, cfg.tolerance, cfg.relative);
-  combineVerdict(cfg.method, v->classifier, v->relative, cfg.relative, v);
-}
-
 AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                 const CoralConfig& coral, const VerdictConfig& cfg) {
   AlignmentVerdict v;
-  v.coral = computeCoral(a, transformScan(b, T_a_b), coral);
-  decideAlignment(a, b, T_a_b, coral, cfg, &v);
+  // One prepared pair for every pose: the relative check's Q values and the Q at the pose
+  // come from the same filtered points and queries (coral_pair.hpp).
+  const bool rel_needed = cfg.method != VerdictMethod::kClassifier;
+  const CoralPair pair(a, b, coral, rel_needed ? cfg.relative.probe_queries : 0);
+  CoralResult at_pose_probe;
+  v.coral = pair.evaluate(T_a_b, rel_needed ? &at_pose_probe : nullptr);
+  if (!v.coral.valid) {
+    v.reason = "CorAl has no valid result (overlap " + std::to_string(v.coral.overlap) + ")";
+    return v;
+  }
+  v.classifier = classify(cfg.classifier, v.coral.h_joint, v.coral.h_sep);  // Eq. 9-10
+  if (rel_needed)
+    v.relative =
+        relativeCheck(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance, cfg.relative);
+  combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
   return v;
 }
 

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <thread>
 
+#include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
@@ -22,6 +23,7 @@ std::string VerdictSampleConfig::validate() const {
       .nested("coral", coral.validate())
       .nested("tolerance", tolerance.validate())
       .require(threads >= 0, "threads", ">= 0", threads)
+      .require(probe_queries >= 0, "probe_queries", ">= 0", probe_queries)
       .require(shard_count >= 1, "shard_count", ">= 1", shard_count)
       .require(shard_index >= 0 && shard_index < shard_count, "shard_index", "in [0, shard_count)",
                shard_index)
@@ -37,47 +39,70 @@ std::vector<MethodSpec> verdictMethods(int dimension) {
 
 namespace {
 
-// CorAl of one pair at many offsets Delta (b's frame), each computed once: neighbours of
-// neighbouring samples coincide (x+ then x- is the aligned pose).
+// CorAl of one pair at many offsets Delta (b's frame) on one CoralPair, as judgeAlignment
+// evaluates it online; each pose computed once: neighbours of neighbouring samples coincide
+// (x+ then x- is the aligned pose).
 class PairEvaluator {
  public:
-  PairEvaluator(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b, const CoralConfig& c)
-      : a_(a), b_(b), T_a_b_(T_a_b), cfg_(c) {
-    cfg_.per_point = false;
-  }
-  // {H_joint, H_sep, Q}; NaN without a valid CorAl result.
+  using Key = std::array<long long, 12>;
+  PairEvaluator(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b, CoralConfig c,
+                int probe_queries)
+      : pair_(a, b, noPerPoint(c), probe_queries), T_a_b_(T_a_b) {}
+  // {H_joint, H_sep, Q} over every query, NaN without a valid CorAl result; also fills the
+  // probe Q of this pose.
   const std::array<double, 3>& at(const Eigen::Isometry3d& delta) {
-    std::array<long long, 12> key;  // Delta rounded (1 um, 1e-9 of the rotation entries)
-    for (int i = 0; i < 3; ++i) {
-      key[i] = std::llround(delta.translation()[i] * 1e6);
-      for (int j = 0; j < 3; ++j) key[3 + 3 * i + j] = std::llround(delta.linear()(i, j) * 1e9);
-    }
-    auto it = cache_.find(key);
-    if (it != cache_.end()) return it->second;
-    const CoralResult r = computeCoral(a_, transformScan(b_, T_a_b_ * delta), cfg_);
-    ++cost_.evaluations;
-    cost_.seconds += r.seconds;
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::array<double, 3> v = {nan, nan, nan};
+    const Key k = key(delta);
+    auto it = full_.find(k);
+    if (it != full_.end()) return it->second;
+    CoralResult probe;
+    const CoralResult r = pair_.evaluate(T_a_b_ * delta, &probe);
+    count(r);
+    probe_[k] = probe.valid ? probe.quality : nan();
+    std::array<double, 3> v = {nan(), nan(), nan()};
     if (r.valid) v = {r.h_joint, r.h_sep, r.quality};
-    return cache_.emplace(key, v).first->second;
+    return full_.emplace(k, v).first->second;
+  }
+  // Q over the probe queries (what the relative check compares).
+  double probeQ(const Eigen::Isometry3d& delta) {
+    const Key k = key(delta);
+    auto it = probe_.find(k);
+    if (it != probe_.end()) return it->second;
+    const CoralResult r = pair_.evaluateProbe(T_a_b_ * delta);
+    count(r);
+    return probe_[k] = r.valid ? r.quality : nan();
   }
   const CoralCost& cost() const { return cost_; }
 
  private:
-  const Scan& a_;
-  const Scan& b_;
+  static CoralConfig noPerPoint(CoralConfig c) {
+    c.per_point = false;
+    return c;
+  }
+  static double nan() { return std::numeric_limits<double>::quiet_NaN(); }
+  static Key key(const Eigen::Isometry3d& delta) {  // rounded (1 um, 1e-9 of the rotation)
+    Key k;
+    for (int i = 0; i < 3; ++i) {
+      k[i] = std::llround(delta.translation()[i] * 1e6);
+      for (int j = 0; j < 3; ++j) k[3 + 3 * i + j] = std::llround(delta.linear()(i, j) * 1e9);
+    }
+    return k;
+  }
+  void count(const CoralResult& r) {
+    ++cost_.evaluations;
+    cost_.seconds += r.seconds;
+  }
+  CoralPair pair_;
   Eigen::Isometry3d T_a_b_;
-  CoralConfig cfg_;
   CoralCost cost_;
-  std::map<std::array<long long, 12>, std::array<double, 3>> cache_;
+  std::map<Key, std::array<double, 3>> full_;
+  std::map<Key, double> probe_;
 };
 
 std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
                                 const std::vector<TrainingScan>& scans, const ScanPair& pr,
                                 const std::vector<ToleranceOffset>& offsets,
-                                const CoralConfig& coral, CoralCost* cost) {
-  PairEvaluator eval(scans[pr.a].scan, scans[pr.b].scan, pr.T_a_b, coral);
+                                const VerdictSampleConfig& cfg, CoralCost* cost) {
+  PairEvaluator eval(scans[pr.a].scan, scans[pr.b].scan, pr.T_a_b, cfg.coral, cfg.probe_queries);
   std::vector<Sample> out;
   for (int s = -1; s < static_cast<int>(offsets.size()); ++s) {  // -1: the aligned sample
     Sample x;
@@ -97,8 +122,8 @@ std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
       x.dyaw = std::atan2(delta.linear()(1, 0), delta.linear()(0, 0));
     }
     const std::array<double, 3> c = eval.at(delta);
-    x.features = {{c[0], c[1]}, {c[2]}};
-    for (const ToleranceOffset& o : offsets) x.features[1].push_back(eval.at(delta * o.delta)[2]);
+    x.features = {{c[0], c[1]}, {eval.probeQ(delta)}};  // the relative check's Q: probe queries
+    for (const ToleranceOffset& o : offsets) x.features[1].push_back(eval.probeQ(delta * o.delta));
     out.push_back(std::move(x));
   }
   cost->evaluations += eval.cost().evaluations;
@@ -130,8 +155,7 @@ bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingS
   std::mutex progress_mutex;
   auto worker = [&] {
     for (std::size_t k; (k = next++) < mine.size();) {
-      per_pair[k] =
-          pairSamples(dataset, mine[k], scans, pairs[mine[k]], offsets, cfg.coral, &costs[k]);
+      per_pair[k] = pairSamples(dataset, mine[k], scans, pairs[mine[k]], offsets, cfg, &costs[k]);
       std::lock_guard<std::mutex> lock(progress_mutex);
       if (progress) progress(++done, mine.size());
     }

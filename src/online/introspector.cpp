@@ -30,17 +30,18 @@ std::string noVerdictReason(const core::CoralResult& r, const core::CoralConfig&
 }  // namespace
 
 PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
-                        const IntrospectorConfig& cfg, bool per_point) {
+                        const IntrospectorConfig& cfg, bool per_point, bool keep_scans) {
   PairJudgement j;
-  j.ref = std::move(ref);
-  j.ref.origin = core::Vec3::Zero();
-  j.cur = core::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
+  ref.origin = core::Vec3::Zero();
   core::CoralConfig cc = cfg.coral;
   cc.per_point = per_point;
-  j.verdict.coral = core::computeCoral(j.ref, j.cur, cc);
   // The one verdict function (coral/verdict.hpp), as coral_train evaluates it: classifier
   // (Eq. 9-10), relative check at the tolerance, or both, as classifier/method says.
-  core::decideAlignment(j.ref, cur, T_ref_cur, cfg.coral, cfg.verdict, &j.verdict);
+  j.verdict = core::judgeAlignment(ref, cur, T_ref_cur, cc, cfg.verdict);
+  if (keep_scans) {
+    j.ref = std::move(ref);
+    j.cur = core::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
+  }
   if (!j.verdict.coral.valid)
     j.reason = noVerdictReason(j.verdict.coral, cfg.coral);
   else if (!j.verdict.valid)
@@ -178,9 +179,12 @@ void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) 
   rep->id_ref = ref.id;
   rep->T_fixed_ref = ref.T_fixed_sensor;
   const Eigen::Isometry3d T_ref_cur = ref.T_fixed_sensor.inverse() * cur.T_fixed_sensor;
-  rep->pair = judgePair(std::move(a), b, T_ref_cur, judging_, options.per_point);
+  // Self-calibration needs the reference scan back (judgePair keeps it with keep_scans).
+  const bool calibrating = cfg_.calibration.enabled;
+  rep->pair = judgePair(std::move(a), b, T_ref_cur, judging_, options.per_point,
+                        options.keep_scans || calibrating);
   // Self-calibration: set the pair aside for calibrate() (newest wins if not called).
-  if (cfg_.calibration.enabled && rep->pair.verdict.coral.valid && calibration_.select()) {
+  if (calibrating && rep->pair.verdict.coral.valid && calibration_.select()) {
     CalibrationJob job;
     job.ref = options.keep_scans ? rep->pair.ref : std::move(rep->pair.ref);
     job.cur = std::move(b);

@@ -167,6 +167,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.getChoice("classifier/method", methodNames(), &method) &&
       r.get("classifier/relative_margin", &o.verdict.relative.margin) &&
       r.get("classifier/flat_ratio", &o.verdict.relative.flat_ratio) &&
+      r.get("classifier/probe_queries", &o.verdict.relative.probe_queries) &&
       r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
       r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&

@@ -168,6 +168,7 @@ std::string describe(const NodeConfig& c) {
     << "\nclassifier.method = " << core::verdictMethodName(c.online.verdict.method)
     << "\nclassifier.relative_margin = " << c.online.verdict.relative.margin
     << "\nclassifier.flat_ratio = " << c.online.verdict.relative.flat_ratio
+    << "\nclassifier.probe_queries = " << c.online.verdict.relative.probe_queries
     << "\ntolerance.translation = " << c.online.verdict.tolerance.translation
     << "\ntolerance.rotation_deg = " << c.online.verdict.tolerance.rotation_deg
     << "\npolar_format = " << static_cast<int>(c.polar_format)

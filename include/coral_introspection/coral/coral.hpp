@@ -122,8 +122,16 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg);
 // other cloud (both centred on the point). Every point with enough joint neighbours feeds
 // the MME (joint_ok); it overlaps with min_neighbours in its own and min_neighbours_other
 // in the other cloud, and is valid when it overlaps and both entropies are finite.
+//
+// own_entropy: h_i(p) already computed from `own` (callers that score one point at many
+// poses compute it once); null computes it here.
+struct OwnEntropy {
+  bool ok = false;  // finite entropy (own.n >= min_neighbours and a usable covariance)
+  double h = 0.0;   // [nats]
+};
 template <class M>
-void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe) {
+void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntropy* pe,
+                const OwnEntropy* own_entropy = nullptr) {
   M joint = own;
   joint += other;
   double h_joint = 0.0, h_sep = 0.0;
@@ -131,8 +139,11 @@ void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntro
                  differentialEntropy(joint.covariance(), cfg.dimension, cfg.epsilon, &h_joint);
   if (pe->joint_ok) pe->h_joint = static_cast<float>(h_joint);
   pe->overlap = own.n >= cfg.min_neighbours && other.n >= cfg.min_neighbours_other;
-  if (pe->overlap && pe->joint_ok &&
-      differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep)) {
+  const bool own_ok =
+      pe->overlap && pe->joint_ok &&
+      (own_entropy ? (h_sep = own_entropy->h, own_entropy->ok)
+                   : differentialEntropy(own.covariance(), cfg.dimension, cfg.epsilon, &h_sep));
+  if (own_ok) {
     pe->h_sep = static_cast<float>(h_sep);
     pe->valid = true;
   }

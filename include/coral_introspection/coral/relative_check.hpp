@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/tolerance.hpp"
 
 namespace coral_introspection {
@@ -29,7 +30,12 @@ struct RelativeCheckConfig {
   // Axes with S_k below flat_ratio times the largest S are reported flat (unobservable):
   // on ACES, detection of a one-tolerance error along such an axis falls from >= 0.998 to
   // 0.63-0.95 below 0.1 (corridors).
-  double flat_ratio = 0.1;       // [-]
+  double flat_ratio = 0.1;  // [-]
+  // [points per scan] the neighbour evaluations and the Q they are compared with score a
+  // systematic sub-sample of this many of CorAl's queries (0 = all of them). Every pose
+  // scores the same points (CoralPair), so the differences Q_neighbour - Q stay precise
+  // with far fewer points than the absolute Q needs; this bounds the check's cost.
+  int probe_queries = 0;
   std::string validate() const;  // empty when valid
 };
 
@@ -58,18 +64,18 @@ struct RelativeCheckResult {
   int coral_evaluations = 0;  // computeCoral calls made (0 for decideRelative)
 };
 
-// CorAl of the pair with b moved by T_a_b * offset.delta, for each offset (no per-point
-// output). a in the common frame, b in its own sensor frame. Online self-calibration keeps
-// (H_joint, H_sep) of each as a misaligned sample.
+// CorAl of the pair with b moved by T_a_b * offset.delta, for each offset, every query (no
+// per-point output; one CoralPair). a in the common frame, b in its own sensor frame. Online
+// self-calibration keeps (H_joint, H_sep) of each as a misaligned sample.
 std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
                                           const Eigen::Isometry3d& T_a_b,
                                           const std::vector<ToleranceOffset>& offsets,
                                           const CoralConfig& cfg);
 
-// Q of neighbourResults (NaN where CorAl has no valid result).
-std::vector<double> neighbourQualities(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
-                                       const std::vector<ToleranceOffset>& offsets,
-                                       const CoralConfig& cfg);
+// Q (probe queries) of the pair with b moved by T_a_b * offset.delta, for each offset (NaN
+// when CorAl has no valid result there).
+std::vector<double> neighbourQualities(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                       const std::vector<ToleranceOffset>& offsets);
 
 // The decision from Q values alone (q_neighbours[i] belongs to offsets[i]); lets training
 // reuse Q values it computed once. Precondition: cfg.validate() is empty.
@@ -77,9 +83,10 @@ RelativeCheckResult decideRelative(double q, const std::vector<ToleranceOffset>&
                                    const std::vector<double>& q_neighbours,
                                    const RelativeCheckConfig& cfg);
 
-// Full check: `at_pose` is computeCoral(a, b moved by T_a_b) (reused, not recomputed).
-RelativeCheckResult relativeCheck(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
-                                  const CoralResult& at_pose, const CoralConfig& coral,
+// Full check: `at_pose_probe` is the pair's Q at T_a_b over the probe queries
+// (CoralPair::evaluate's `probe`), reused, not recomputed.
+RelativeCheckResult relativeCheck(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                  const CoralResult& at_pose_probe, int dimension,
                                   const ToleranceConfig& tolerance, const RelativeCheckConfig& cfg);
 
 }  // namespace core

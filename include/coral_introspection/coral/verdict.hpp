@@ -51,13 +51,9 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
                     AlignmentVerdict* out);
 
-// The verdict once CorAl at the pose is known: v->coral = computeCoral(a, b moved by T_a_b)
-// (the caller may have asked for per-point entropies); fills the rest of *v, running the
-// relative check's neighbour evaluations (with `coral`) when cfg.method needs them.
-void decideAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
-                     const CoralConfig& coral, const VerdictConfig& cfg, AlignmentVerdict* v);
-
-// CorAl of b (its own sensor frame) moved into a's frame by T_a_b, then decideAlignment.
+// CorAl of b (its own sensor frame) moved into a's frame by T_a_b (a CoralPair: b is
+// filtered in its own frame), then the verdict as cfg.method says; per-point entropies in
+// the result's coral as coral.per_point says.
 // Preconditions: coral.validate() and cfg.validate() are empty. Never throws.
 AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                 const CoralConfig& coral, const VerdictConfig& cfg);

@@ -21,6 +21,8 @@ namespace core {
 struct VerdictSampleConfig {
   CoralConfig coral;             // the preset's CorAl settings
   ToleranceConfig tolerance;     // size of the induced misalignments and of the probes
+  int probe_queries = 0;         // queries per scan of the relative check's Q values
+                                 // (RelativeCheckConfig::probe_queries; 0 = all)
   int threads = 0;               // worker threads; 0 = every core of the machine
   int shard_index = 0;           // this shard ...
   int shard_count = 1;           // ... of this many (1 = the whole data set)

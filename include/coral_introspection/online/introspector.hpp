@@ -61,15 +61,15 @@ struct PairJudgement {
   // verdict.aligned (meaningful when verdict.valid).
   core::AlignmentVerdict verdict;
   std::string reason;   // why there is no verdict (empty when verdict.valid)
-  core::Scan ref, cur;  // the pair in the reference sensor frame (ref.origin = 0)
+  core::Scan ref, cur;  // keep_scans: the pair in the reference sensor frame (ref.origin = 0)
 };
 
 // CorAl of `cur` moved into `ref`'s sensor frame by T_ref_cur, then the verdict at the
-// tolerance (core::decideAlignment: classifier, relative check or both).
+// tolerance (core::judgeAlignment: classifier, relative check or both).
 // Both scans in their own sensor frames (origin 0). Computing in the reference frame (not
 // the fixed frame) keeps coordinates small and is exactly what training does.
 PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
-                        const IntrospectorConfig& cfg, bool per_point);
+                        const IntrospectorConfig& cfg, bool per_point, bool keep_scans = false);
 
 struct Report {
   double stamp = 0.0;

@@ -64,7 +64,7 @@ AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict&
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b);
 
-// Verdict message of a pair judged by core::decideAlignment (online::judgePair): CorAl at
+// Verdict message of a pair judged by core::judgeAlignment (online::judgePair): CorAl at
 // the pose, the combined verdict of cfg.method, the tolerance it judged, and the relative
 // check's correction hint and flat axes.
 AlignmentQuality toMessage(const core::AlignmentVerdict& verdict, const core::VerdictConfig& cfg,
