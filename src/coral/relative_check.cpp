@@ -16,6 +16,18 @@ std::string RelativeCheckConfig::validate() const {
       .str();
 }
 
+std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
+                                          const Eigen::Isometry3d& T_a_b,
+                                          const std::vector<ToleranceOffset>& offsets,
+                                          const CoralConfig& cfg) {
+  CoralConfig c = cfg;
+  c.per_point = false;  // only the aggregates are kept
+  const CoralPair pair(a, b, c);
+  std::vector<CoralResult> out;
+  for (const ToleranceOffset& o : offsets) out.push_back(pair.evaluate(T_a_b * o.delta));
+  return out;
+}
+
 std::vector<double> neighbourQualities(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                        const std::vector<ToleranceOffset>& offsets) {
   std::vector<double> q;

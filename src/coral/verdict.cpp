@@ -1,6 +1,8 @@
 #include "coral_introspection/coral/verdict.hpp"
 
 #include <algorithm>
+#include <iomanip>
+#include <sstream>
 
 #include "coral_introspection/coral/validation.hpp"
 
@@ -88,6 +90,21 @@ AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isome
         relativeCheck(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance, cfg.relative);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
   return v;
+}
+
+std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments,
+                           const ToleranceConfig* tolerance) {
+  std::ostringstream s;
+  for (const std::string& line : comments) s << "# " << line << '\n';
+  s << std::setprecision(12);
+  if (tolerance)
+    s << "tolerance:\n  translation: " << tolerance->translation
+      << "\n  rotation_deg: " << tolerance->rotation_deg << '\n';
+  // Nested under "classifier" = the nodelet's ~classifier/beta0 ... (Eq. 9-10).
+  s << "classifier:\n  method: " << verdictMethodName(VerdictMethod::kClassifier)
+    << "\n  beta0: " << c.beta0 << "\n  beta1: " << c.beta1 << "\n  beta2: " << c.beta2
+    << "\n  threshold: " << c.threshold << '\n';
+  return s.str();
 }
 
 }  // namespace core

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <set>
 
-#include "coral_introspection/eval/metrics.hpp"
+#include "coral_introspection/coral/metrics.hpp"
 
 namespace coral_introspection {
 namespace core {

@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "coral_introspection/eval/metrics.hpp"
+#include "coral_introspection/coral/metrics.hpp"
 
 namespace coral_introspection {
 namespace core {
@@ -44,16 +44,6 @@ bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string*
     s << '\n';
   }
   return writeTextFile(path, s.str(), error);
-}
-
-std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments) {
-  std::ostringstream s;
-  for (const std::string& line : comments) s << "# " << line << '\n';
-  // Nested under "classifier" = the nodelet's ~classifier/beta0 ... (Eq. 9-10).
-  s << std::setprecision(12) << "classifier:\n"
-    << "  beta0: " << c.beta0 << "\n  beta1: " << c.beta1 << "\n  beta2: " << c.beta2
-    << "\n  threshold: " << c.threshold << '\n';
-  return s.str();
 }
 
 bool writeClassifierYaml(const std::string& path, const ClassifierConfig& c,

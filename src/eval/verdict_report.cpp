@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "coral_introspection/eval/metrics.hpp"
+#include "coral_introspection/coral/metrics.hpp"
 #include "coral_introspection/eval/training_report.hpp"
 
 namespace coral_introspection {

@@ -50,7 +50,16 @@ PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isom
 }
 
 Introspector::Introspector(const IntrospectorConfig& cfg)
-    : cfg_(cfg), pairing_(cfg.pairing), velocity_(cfg.deskew.window) {}
+    : cfg_(cfg),
+      judging_(cfg),
+      calibration_(cfg.calibration, cfg.verdict.classifier),
+      pairing_(cfg.pairing),
+      velocity_(cfg.deskew.window) {}
+
+void Introspector::updateJudgingConfig() {
+  judging_ = cfg_;
+  if (cfg_.calibration.enabled) judging_.verdict.classifier = calibration_.classifier();
+}
 
 bool Introspector::setConfig(const IntrospectorConfig& cfg, std::string* error) {
   if (std::string e = cfg.validate(); !e.empty()) {
@@ -58,7 +67,16 @@ bool Introspector::setConfig(const IntrospectorConfig& cfg, std::string* error) 
     return false;
   }
   if (cfg.deskew.window != cfg_.deskew.window) velocity_ = core::VelocityHistory(cfg.deskew.window);
+  // Samples describe CorAl's features at one radius, dimension, floor and tolerance: other
+  // settings start the calibration afresh.
+  const core::CoralConfig &o = cfg_.coral, &n = cfg.coral;
+  if (o.radius != n.radius || o.dimension != n.dimension || o.epsilon != n.epsilon ||
+      cfg_.verdict.tolerance.translation != cfg.verdict.tolerance.translation ||
+      cfg_.verdict.tolerance.rotation_deg != cfg.verdict.tolerance.rotation_deg)
+    calibration_.clearSamples();
+  calibration_.setPrior(cfg.verdict.classifier);
   cfg_ = cfg;
+  updateJudgingConfig();
   pairing_.setConfig(cfg.pairing);
   return true;
 }
@@ -160,8 +178,22 @@ void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) 
   rep->stamp_ref = ref.stamp;
   rep->id_ref = ref.id;
   rep->T_fixed_ref = ref.T_fixed_sensor;
-  rep->pair = judgePair(std::move(a), b, ref.T_fixed_sensor.inverse() * cur.T_fixed_sensor, cfg_,
-                        options.per_point, options.keep_scans);
+  const Eigen::Isometry3d T_ref_cur = ref.T_fixed_sensor.inverse() * cur.T_fixed_sensor;
+  // Self-calibration needs the reference scan back (judgePair keeps it with keep_scans).
+  const bool calibrating = cfg_.calibration.enabled;
+  rep->pair = judgePair(std::move(a), b, T_ref_cur, judging_, options.per_point,
+                        options.keep_scans || calibrating);
+  // Self-calibration: set the pair aside for calibrate() (newest wins if not called).
+  if (calibrating && rep->pair.verdict.coral.valid && calibration_.select()) {
+    CalibrationJob job;
+    job.ref = options.keep_scans ? rep->pair.ref : std::move(rep->pair.ref);
+    job.cur = std::move(b);
+    job.T_ref_cur = T_ref_cur;
+    job.at_pose = rep->pair.verdict.coral;
+    job.at_pose.per_point.clear();
+    pending_ = std::move(job);
+  }
+  if (!options.keep_scans) rep->pair.ref = rep->pair.cur = core::Scan();
   ++counters_.pairs;
   counters_.coral_seconds += rep->pair.verdict.coral.seconds;
   counters_.coral_evaluations += 1 + rep->pair.verdict.relative.coral_evaluations;
@@ -169,6 +201,17 @@ void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) 
     ++counters_.valid_pairs;
     if (!rep->pair.verdict.aligned) ++counters_.misaligned;
   }
+}
+
+bool Introspector::calibrate() {
+  if (!pending_) return false;
+  const CalibrationJob job = std::move(*pending_);
+  pending_.reset();
+  // Features at the configured CorAl settings and tolerance; the relative check's margin
+  // settings decide acceptance (never the classifier being calibrated).
+  calibration_.addPair(job.ref, job.cur, job.T_ref_cur, job.at_pose, cfg_.coral, cfg_.verdict);
+  updateJudgingConfig();
+  return true;
 }
 
 // Doppler (paper 2, Eq. 9-12): the odometry's latest velocity (sensor frame) against the

@@ -38,6 +38,7 @@ std::string IntrospectorConfig::validate() const {
   add(&e, prefixMessages("tolerance/", verdict.tolerance.validate()));
   add(&e, prefixMessages("motion_compensation/", deskew.validate()));
   if (doppler.enabled) add(&e, prefixMessages("doppler/", doppler.validate()));
+  if (calibration.enabled) add(&e, prefixMessages("calibration/", calibration.validate()));
   return e;
 }
 

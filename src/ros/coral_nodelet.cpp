@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <boost/thread/recursive_mutex.hpp>
+#include <optional>
 #include <pluginlib/class_list_macros.hpp>
 #include <thread>
 
@@ -68,6 +69,12 @@ class CoralNodelet : public nodelet::Nodelet {
                    config_.testing_pair_delay);
     introspector_ = online::Introspector(config_.online);
     stats_.doppler = config_.online.doppler.enabled;
+    stats_.calibration = config_.online.calibration.enabled;
+    if (config_.online.calibration.enabled &&
+        config_.online.verdict.method == core::VerdictMethod::kRelative)
+      NODELET_INFO(
+          "calibration/enabled with classifier/method relative: the refitted classifier "
+          "is written (calibration/output_file) but does not judge");
     stats_.time_budget = config_.time_budget;
     stats_.mailbox = [this] { return std::make_pair(mailbox_.dropped(), mailbox_.noticesLost()); };
     worker_ = std::thread(&CoralNodelet::work, this);
@@ -203,6 +210,18 @@ class CoralNodelet : public nodelet::Nodelet {
     }
     done.seconds = (ros::WallTime::now() - start).toSec();
     stats_.finished(done);
+    // Self-calibration after the verdict is published: it delays only the next scan (which
+    // waits in the newest-wins mailbox), on average by calibration/fraction_of_pairs x
+    // 2 x axes CorAl evaluations per pair.
+    if (r && introspector_.calibrate()) {
+      stats_.calibrated(introspector_.calibration().status());
+      std::lock_guard<std::mutex> lock(config_mutex_);  // check_alignment judges alike
+      calibrated_ = introspector_.calibration().status().in_use
+                        ? std::optional(introspector_.calibration().classifier())
+                        : std::nullopt;
+      const std::string& e = introspector_.calibration().status().last_error;
+      if (!e.empty()) NODELET_WARN_THROTTLE(30.0, "self-calibration: %s", e.c_str());
+    }
   }
 
   // A refused request is answered with `error` set; a failed call means an internal error.
@@ -225,9 +244,12 @@ class CoralNodelet : public nodelet::Nodelet {
     });
   }
 
+  // The parameters with the self-calibrated classifier when it judges (check_alignment).
   NodeConfig config() {
     std::lock_guard<std::mutex> lock(config_mutex_);
-    return config_;
+    NodeConfig c = config_;
+    if (calibrated_) c.online.verdict.classifier = *calibrated_;
+    return c;
   }
 
   template <class F>
@@ -241,6 +263,7 @@ class CoralNodelet : public nodelet::Nodelet {
   std::mutex config_mutex_;  // config_, config_changed_ (every thread, briefly)
   NodeConfig config_;
   bool config_changed_ = false;
+  std::optional<core::ClassifierConfig> calibrated_;  // self-calibration in use (config_mutex_)
   std::atomic<bool> reset_requested_{false};
   online::Mailbox<ScanEvent> mailbox_{100, &CoralNodelet::dropNotice};
   online::Introspector introspector_;  // worker thread only

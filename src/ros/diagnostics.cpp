@@ -112,6 +112,11 @@ void Stats::finished(const WorkDone& d) {
   if (d.problem) last_error_ = d.reason;
 }
 
+void Stats::calibrated(const online::CalibrationStatus& status) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  calibration_ = status;
+}
+
 void Stats::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(mutex_);
   const InputCounters &i = input_, &li = last_input_;
@@ -202,6 +207,21 @@ void Stats::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   if (doppler) {
     stat.add("doppler checks", c.doppler_checks);
     stat.add("doppler inconsistent", c.doppler_inconsistent);
+  }
+  if (calibration) {
+    const online::CalibrationStatus& k = calibration_;
+    std::ostringstream beta;
+    beta << k.classifier.beta0 << ", " << k.classifier.beta1 << ", " << k.classifier.beta2;
+    stat.add("calibration pairs selected", k.pairs_selected);
+    stat.add("calibration pairs accepted", k.pairs_accepted);
+    stat.add("calibration extra evaluations", k.extra_evaluations);
+    stat.add("calibration samples", k.samples);
+    stat.add("calibration held-out AUC", k.heldout_auc);
+    stat.add("calibration refits", k.refits);
+    stat.add("calibration in use", k.in_use ? "true" : "false");
+    stat.add("calibration beta0, beta1, beta2", beta.str());
+    stat.add("calibration time [s]", k.seconds);
+    stat.add("calibration last error", k.last_error);
   }
   stat.add("last error", last_error_);
   stat.add("last tf failure", last_tf_failure_);

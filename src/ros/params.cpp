@@ -197,7 +197,16 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("doppler/point_covariances", &o.doppler.point_covariances) &&
       r.get("doppler/sigma_range", &o.doppler.noise.sigma_range) &&
       r.get("doppler/sigma_azimuth", &o.doppler.noise.sigma_azimuth) &&
-      r.get("doppler/sigma_elevation", &o.doppler.noise.sigma_elevation);
+      r.get("doppler/sigma_elevation", &o.doppler.noise.sigma_elevation) &&
+      r.get("calibration/enabled", &o.calibration.enabled) &&
+      r.get("calibration/fraction_of_pairs", &o.calibration.fraction_of_pairs) &&
+      r.get("calibration/max_samples", &o.calibration.max_samples) &&
+      r.get("calibration/min_samples_before_use", &o.calibration.min_samples_before_use) &&
+      r.get("calibration/min_auc", &o.calibration.min_auc) &&
+      r.get("calibration/holdout_fraction", &o.calibration.holdout_fraction) &&
+      r.get("calibration/prior_weight", &o.calibration.prior_weight) &&
+      r.get("calibration/accept_score", &o.calibration.accept_score) &&
+      r.get("calibration/output_file", &o.calibration.output_file);
   c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
   o.verdict.method = static_cast<core::VerdictMethod>(method);
   o.coral.aggregation = agg == 1 ? core::Aggregation::kMedian : core::Aggregation::kMean;
@@ -265,7 +274,7 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
     }
     if (warnings)
       r.unknownKeys({"pairing", "coral", "classifier", "tolerance", "radar", "rip",
-                     "motion_compensation", "publish", "doppler", "testing"},
+                     "motion_compensation", "publish", "doppler", "testing", "calibration"},
                     warnings);
   } catch (const XmlRpc::XmlRpcException& e) {
     *error = std::string("malformed parameter tree: ") + e.getMessage();

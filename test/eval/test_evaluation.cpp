@@ -101,7 +101,8 @@ TEST(TrainingReport, ClassifierYamlHasTheNodeletParameterNames) {
   c.beta2 = 19.75;
   c.threshold = 0.5;
   EXPECT_EQ(classifierYaml(c, {"trained by test"}),
-            "# trained by test\nclassifier:\n  beta0: 1.5\n  beta1: -20.25\n  beta2: 19.75\n"
+            "# trained by test\nclassifier:\n  method: classifier\n  beta0: 1.5\n  beta1: -20.25\n "
+            " beta2: 19.75\n"
             "  threshold: 0.5\n");
 }
 

@@ -121,8 +121,8 @@ TEST(TrainingSet, OxfordRadarProtocolAndTrainingRun) {
   std::ifstream y(cfg.output_dir + "/classifier.yaml");
   std::stringstream text;
   text << y.rdbuf();
-  for (const char* key :
-       {"\nclassifier:\n", "\n  beta0: ", "\n  beta1: ", "\n  beta2: ", "\n  threshold: 0.5\n"})
+  for (const char* key : {"\nclassifier:\n  method: classifier\n",
+                          "\n  beta0: ", "\n  beta1: ", "\n  beta2: ", "\n  threshold: 0.5\n"})
     EXPECT_NE(text.str().find(key), std::string::npos) << key;
   // The deployed classifier calls the ground-truth pairs aligned and the offsets not.
   const ClassifierConfig c = res.classifier.toClassifierConfig();

@@ -106,6 +106,27 @@ TEST(Params, DopplerNoiseAndSeedValidated) {
   EXPECT_NE(err.find("doppler/seed"), std::string::npos) << err;
 }
 
+TEST(Params, CalibrationReadAndValidatedWhenEnabled) {
+  XmlRpcValue t;
+  t["calibration"]["enabled"] = true;
+  t["calibration"]["fraction_of_pairs"] = 0.5;
+  t["calibration"]["max_samples"] = 300;
+  t["calibration"]["output_file"] = std::string("/tmp/c.yaml");
+  ros_adapters::NodeConfig c;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
+  EXPECT_TRUE(c.online.calibration.enabled);
+  EXPECT_EQ(c.online.calibration.fraction_of_pairs, 0.5);
+  EXPECT_EQ(c.online.calibration.max_samples, 300);
+  EXPECT_EQ(c.online.calibration.output_file, "/tmp/c.yaml");
+  t["calibration"]["fraction_of_pairs"] = 2.0;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("calibration/fraction_of_pairs must be in (0, 1] (got 2)"), std::string::npos)
+      << err;
+  t["calibration"]["enabled"] = false;  // not validated while off
+  EXPECT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
+}
+
 TEST(Params, OutOfRangeValueNamesParamValueAndRange) {
   ros_adapters::NodeConfig c;
   std::string err;

@@ -68,7 +68,8 @@ TEST(ReadmeTables, ParameterTableListsEveryParameterRead) {
 TEST(ReadmeTables, DiagnosticsTableListsEveryKey) {
   ros::Time::init();
   Stats s;
-  s.doppler = true;  // the Doppler counters too
+  s.doppler = true;      // the Doppler counters too
+  s.calibration = true;  // and the self-calibration's state
   diagnostic_updater::DiagnosticStatusWrapper w;
   s.diagnose(w);
   std::set<std::string> code;

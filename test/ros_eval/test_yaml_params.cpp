@@ -56,6 +56,39 @@ TEST(YamlParams, ClassifierFileOverridesOnlyItsKeys) {
   EXPECT_DOUBLE_EQ(static_cast<double>(base["coral"]["radius"]), 1.0);
 }
 
+// What coral_train and online self-calibration write loads over a preset whose default
+// method is relative and makes the nodelet judge with exactly that classifier and tolerance.
+TEST(YamlParams, WrittenClassifierFileRoundTripsOverAPreset) {
+  core::ClassifierConfig c;
+  c.beta0 = 7.25;
+  c.beta1 = -91.5;
+  c.beta2 = 98.125;
+  c.threshold = 0.6;
+  core::ToleranceConfig tol;
+  tol.translation = 0.4;
+  tol.rotation_deg = 3.0;
+  XmlRpcValue preset, written;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::loadYamlParams(std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml",
+                                           &preset, &err))
+      << err;
+  ASSERT_TRUE(
+      ros_adapters::parseYamlParams(core::classifierYaml(c, {"test"}, &tol), &written, &err))
+      << err;
+  ros_adapters::mergeParams(written, &preset);
+  ros_adapters::NodeConfig n;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(preset, &n, &err)) << err;
+  const core::VerdictConfig& v = n.online.verdict;
+  EXPECT_EQ(v.method, core::VerdictMethod::kClassifier);  // lidar_3d.yaml says relative
+  EXPECT_EQ(v.classifier.beta0, 7.25);
+  EXPECT_EQ(v.classifier.beta1, -91.5);
+  EXPECT_EQ(v.classifier.beta2, 98.125);
+  EXPECT_EQ(v.classifier.threshold, 0.6);
+  EXPECT_EQ(v.tolerance.translation, 0.4);
+  EXPECT_EQ(v.tolerance.rotation_deg, 3.0);
+  EXPECT_EQ(n.online.coral.radius, 1.0);  // the preset's CorAl settings stay
+}
+
 TEST(YamlParams, EveryShippedPresetLoadsWithoutWarnings) {
   const std::string dir = std::string(CORAL_SOURCE_DIR) + "/config";
   DIR* d = opendir(dir.c_str());

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
@@ -56,6 +57,15 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
 // Preconditions: coral.validate() and cfg.validate() are empty. Never throws.
 AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                 const CoralConfig& coral, const VerdictConfig& cfg);
+
+// The classifier as the nodelet's private parameters ~classifier/method, beta0, beta1, beta2,
+// threshold (`<rosparam file=.../>` inside the nodelet, coral.launch classifier:=, coral_check
+// --classifier). method is `classifier`: loaded over a preset whose default method is
+// relative, the file is used rather than ignored. With `tolerance`, a tolerance/ section the
+// classifier was trained for comes first (a classifier only holds for its tolerance).
+// `comments` become leading # lines. Written by coral_train and by online self-calibration.
+std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments,
+                           const ToleranceConfig* tolerance = nullptr);
 
 }  // namespace core
 }  // namespace coral_introspection

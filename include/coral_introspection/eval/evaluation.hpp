@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/eval/logistic_regression.hpp"
+#include "coral_introspection/coral/logistic_regression.hpp"
 
 namespace coral_introspection {
 namespace core {

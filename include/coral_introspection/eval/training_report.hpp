@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/eval/evaluation.hpp"
 
 namespace coral_introspection {
@@ -16,11 +16,7 @@ namespace core {
 // value). Returns false with *error if unwritable. Read back with readSamplesCsv.
 bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string* error);
 
-// classifier: {beta0, beta1, beta2, threshold} -- the nodelet's private parameters
-// ~classifier/beta0 ... ~classifier/threshold, so `rosparam load file ~` or
-// <rosparam file=.../> inside the nodelet works as-is. `comments` become leading # lines
-// (training provenance).
-std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments);
+// core::classifierYaml (coral/verdict.hpp) written to `path`.
 bool writeClassifierYaml(const std::string& path, const ClassifierConfig& c,
                          const std::vector<std::string>& comments, std::string* error);
 

@@ -107,6 +107,13 @@ class Introspector {
   void reset();
   Report process(ScanInput scan, const ProcessOptions& options = ProcessOptions());
   const Counters& counters() const { return counters_; }
+  // Online self-calibration (calibration/enabled): process() only sets aside the pairs the
+  // fraction selects; this runs the set-aside pair's extra CorAl evaluations and the refit.
+  // Call it after the verdict of process() is out (the nodelet: after publishing), so the
+  // verdict never waits for calibration. Returns true when a pair was processed. From the
+  // next pair on, a refit in use (status().in_use) replaces the configured classifier.
+  bool calibrate();
+  const SelfCalibration& calibration() const { return calibration_; }
 
  private:
   struct Held {  // the reference scan
@@ -119,7 +126,17 @@ class Introspector {
   void checkDoppler(const ScanInput& scan, Report* report);
   void judge(Held& cur, const ProcessOptions& options, Report* report);
 
+  struct CalibrationJob {  // a selected pair, as judgePair saw it
+    core::Scan ref, cur;   // ref in its sensor frame (origin 0), cur in its own
+    Eigen::Isometry3d T_ref_cur = Eigen::Isometry3d::Identity();
+    core::CoralResult at_pose;
+  };
+  void updateJudgingConfig();
+
   IntrospectorConfig cfg_;
+  IntrospectorConfig judging_;  // cfg_ with the self-calibrated classifier when in use
+  SelfCalibration calibration_;
+  std::optional<CalibrationJob> pending_;
   ScanPairing pairing_;
   core::VelocityHistory velocity_;
   std::optional<Held> reference_;

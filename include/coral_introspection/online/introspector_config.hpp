@@ -7,6 +7,7 @@
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/online/pairing.hpp"
+#include "coral_introspection/online/self_calibration.hpp"
 #include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/doppler.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
@@ -37,6 +38,8 @@ struct IntrospectorConfig {
   core::VerdictConfig verdict;
   core::DeskewConfig deskew;  // radar scans only (per-point stamps)
   DopplerCheckConfig doppler;
+  // calibration/: online self-calibration of the classifier (self_calibration.hpp).
+  SelfCalibrationConfig calibration;
   std::string validate() const;  // empty when valid; names the group (coral/, ...)
 };
 

@@ -49,6 +49,7 @@ class Stats {
  public:
   // Set before the threads start.
   bool doppler = false;      // report the Doppler counters
+  bool calibration = false;  // report the online self-calibration (calibration/enabled)
   double time_budget = 0.0;  // [s] worker time per scan reported when exceeded; 0 = off
   // The mailbox's totals (scans dropped, notices lost), read at each report so drops show
   // while the worker is stuck on one scan.
@@ -73,6 +74,8 @@ class Stats {
   // The worker starts / finishes an item (scan at header.stamp).
   void started(const std_msgs::Header& header);
   void finished(const WorkDone& done);
+  // The worker ran the self-calibration (Introspector::calibrate) after an item.
+  void calibrated(const online::CalibrationStatus& status);
   void idle();  // after an item, also one that failed
 
   // diagnostic_updater task: WARN when problems arose since the last report, or while the
@@ -93,6 +96,7 @@ class Stats {
   std::mutex mutex_;
   InputCounters input_, last_input_;
   online::Counters counters_, last_counters_;
+  online::CalibrationStatus calibration_;
   online::SequenceGaps seq_gaps_;
   uint64_t dropped_ = 0, last_dropped_ = 0, notices_lost_ = 0;
   uint64_t verdicts_ = 0, over_budget_ = 0;

@@ -22,6 +22,16 @@ struct LogisticRegressionConfig {
   // Newton would diverge; 1e-3 keeps the slopes finite while changing non-separable fits
   // negligibly. 0 gives the plain maximum-likelihood fit.
   double ridge = 1e-3;
+  // Gaussian prior on the slopes toward a known model (online self-calibration: the
+  // configured classifier): 0.5 * prior_weight * |b_s - b_prior|^2 over the slopes in the
+  // standardized coordinates of the fitted samples (slope per standard deviation of each
+  // feature); the intercept stays free, so the boundary's position comes from the data and
+  // its direction (how H_sep offsets H_joint, which samples from one scene hardly show)
+  // from the prior until the data determine it. The data's curvature grows with the sample
+  // count n (weights are normalized to sum to n), the prior's does not. 0 = no prior.
+  // prior_beta: raw coefficients (intercept first, unused), size d + 1 when used.
+  double prior_weight = 0.0;
+  Eigen::VectorXd prior_beta;
   int max_iterations = 100;
   double tolerance = 1e-10;      // stop when the Newton step's max |delta beta_std| is below
   double threshold = 0.5;        // t_h of Eq. 10 copied into the ClassifierConfig
@@ -45,7 +55,7 @@ struct LogisticModel {
 // Fits rows of X (n x d, d >= 1) to labels y (1 = aligned, 0 = misaligned). sample_weights
 // may be empty (all 1); they multiply the class balancing weights. Returns false with
 // *error on size mismatch, non-finite input, a single class, or an invalid config; never
-// throws. A constant feature column gets slope 0.
+// throws. A constant feature column gets slope 0 (the prior's slope when a prior is set).
 bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& y,
                            const std::vector<double>& sample_weights,
                            const LogisticRegressionConfig& cfg, LogisticModel* model,

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "coral_introspection/eval/metrics.hpp"
+#include "coral_introspection/coral/metrics.hpp"
 
 using namespace coral_introspection::core;
 

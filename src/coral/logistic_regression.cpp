@@ -1,9 +1,10 @@
-#include "coral_introspection/eval/logistic_regression.hpp"
+#include "coral_introspection/coral/logistic_regression.hpp"
 
 #include "coral_introspection/coral/validation.hpp"
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <string>
 
 namespace coral_introspection {
 namespace core {
@@ -16,6 +17,10 @@ std::string LogisticRegressionConfig::validate() const {
       .require(ridge >= 0.0 && std::isfinite(ridge), "ridge", "finite and >= 0", ridge)
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
       .require(tolerance > 0.0, "tolerance", "> 0", tolerance)
+      .require(prior_weight >= 0.0 && std::isfinite(prior_weight), "prior_weight",
+               "finite and >= 0", prior_weight)
+      .require(prior_weight == 0.0 || prior_beta.allFinite(), "prior_beta", "finite",
+               prior_beta.size() > 0 ? prior_beta(0) : 0.0)
       .nested("deployed classifier", deployed.validate())
       .str();
 }
@@ -39,12 +44,14 @@ double softplus(double z) {
   return z > 0.0 ? z + std::log1p(std::exp(-z)) : std::log1p(std::exp(z));
 }
 
+// Weighted negative log-likelihood + 0.5 sum_j P_j (b_j - m_j)^2 (ridge and prior in one
+// quadratic; see fitLogisticRegression).
 double objective(const Eigen::MatrixXd& Z, const Eigen::VectorXd& y, const Eigen::VectorXd& w,
-                 const Eigen::VectorXd& b, double ridge) {
+                 const Eigen::VectorXd& b, const Eigen::VectorXd& P, const Eigen::VectorXd& m) {
   const Eigen::VectorXd z = Z * b;
   double f = 0.0;
   for (Eigen::Index i = 0; i < z.size(); ++i) f += w(i) * (softplus(z(i)) - y(i) * z(i));
-  return f + 0.5 * ridge * b.tail(b.size() - 1).squaredNorm();  // intercept not penalized
+  return f + 0.5 * (P.array() * (b - m).array().square()).sum();
 }
 }  // namespace
 
@@ -63,6 +70,9 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& lab
   if (!sample_weights.empty() && static_cast<Eigen::Index>(sample_weights.size()) != n)
     return fail("sample_weights and rows differ in count");
   if (!X.allFinite()) return fail("non-finite feature value");
+  const bool prior = cfg.prior_weight > 0.0;
+  if (prior && cfg.prior_beta.size() != d + 1)
+    return fail("prior_beta needs " + std::to_string(d + 1) + " coefficients");
 
   Eigen::VectorXd y(n), w(n);
   double n_pos = 0.0;
@@ -92,18 +102,32 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& lab
     else
       Z.col(j + 1).setZero();
   }
-  Eigen::VectorXd P = Eigen::VectorXd::Constant(d + 1, cfg.ridge);
+  // Penalty on the slopes only (the intercept is free, as without a prior):
+  // 0.5 ridge |b_s|^2 + 0.5 prior_weight |b_s - c|^2 = 0.5 sum_j P_j (b_j - m_j)^2 (+ const)
+  // with P = ridge + prior_weight and m = prior_weight c / P; c_j = beta_j sd_j, the prior's
+  // slopes in standardized coordinates.
+  const double lambda = cfg.prior_weight;
+  Eigen::VectorXd c = Eigen::VectorXd::Zero(d + 1);
+  if (prior)
+    for (Eigen::Index j = 0; j < d; ++j) c(j + 1) = cfg.prior_beta(j + 1) * sd(j);
+  Eigen::VectorXd P = Eigen::VectorXd::Constant(d + 1, cfg.ridge + lambda);
   P(0) = 0.0;
+  Eigen::VectorXd M = Eigen::VectorXd::Zero(d + 1);
+  for (Eigen::Index j = 0; j <= d; ++j)
+    if (P(j) > 0.0) M(j) = lambda * c(j) / P(j);
   for (Eigen::Index j = 0; j < d; ++j)
-    if (sd(j) == 0.0) P(j + 1) = 1.0;  // pins the slope of a constant column at 0
+    if (sd(j) == 0.0) {  // pins the slope of a constant column at 0
+      P(j + 1) = 1.0;
+      M(j + 1) = 0.0;
+    }
 
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(d + 1);
-  double f = objective(Z, y, w, b, cfg.ridge);
+  Eigen::VectorXd b = prior ? M : Eigen::VectorXd::Zero(d + 1);  // start at the prior's slopes
+  double f = objective(Z, y, w, b, P, M);
   LogisticModel m;
   m.threshold = cfg.threshold;
   for (int it = 1; it <= cfg.max_iterations; ++it) {
     m.iterations = it;
-    // Newton / IRLS: gradient Z^T w (p - y) + P b, Hessian Z^T W p(1-p) Z + diag(P).
+    // Newton / IRLS: gradient Z^T w (p - y) + P (b - M), Hessian Z^T W p(1-p) Z + diag(P).
     const Eigen::VectorXd z = Z * b;
     Eigen::VectorXd p(n), s(n);
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -111,7 +135,7 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& lab
       s(i) = w(i) * p(i) * (1.0 - p(i));
     }
     const Eigen::VectorXd g =
-        Z.transpose() * (w.array() * (p - y).array()).matrix() + P.cwiseProduct(b);
+        Z.transpose() * (w.array() * (p - y).array()).matrix() + P.cwiseProduct(b - M);
     Eigen::MatrixXd H = Z.transpose() * s.asDiagonal() * Z;
     H.diagonal() += P;
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
@@ -119,10 +143,10 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& lab
     if (ldlt.info() != Eigen::Success || !step.allFinite())
       return fail("singular Hessian (separable data with ridge = 0?)");
     // Backtracking keeps every iteration a descent step far from the optimum.
-    double t = 1.0, f_new = objective(Z, y, w, b - step, cfg.ridge);
+    double t = 1.0, f_new = objective(Z, y, w, b - step, P, M);
     while (f_new > f + 1e-12 * std::abs(f) && t > 1e-8) {
       t *= 0.5;
-      f_new = objective(Z, y, w, b - t * step, cfg.ridge);
+      f_new = objective(Z, y, w, b - t * step, P, M);
     }
     b -= t * step;
     f = f_new;
@@ -136,7 +160,8 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& lab
   m.beta.resize(d + 1);
   m.beta(0) = b(0);
   for (Eigen::Index j = 0; j < d; ++j) {
-    m.beta(j + 1) = sd(j) > 0.0 ? b(j + 1) / sd(j) : 0.0;
+    // A constant column carries no information: it keeps the prior's slope (or 0).
+    m.beta(j + 1) = sd(j) > 0.0 ? b(j + 1) / sd(j) : (prior ? cfg.prior_beta(j + 1) : 0.0);
     m.beta(0) -= m.beta(j + 1) * mu(j);
   }
   m.objective = f;

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "coral_introspection/eval/logistic_regression.hpp"
+#include "coral_introspection/coral/logistic_regression.hpp"
 
 using namespace coral_introspection::core;
 
@@ -156,4 +156,41 @@ TEST(LogisticRegression, RejectsBadInput) {
   LogisticRegressionConfig bad;
   bad.ridge = -1.0;
   EXPECT_NE(bad.validate().find("ridge"), std::string::npos);
+}
+
+// The Gaussian prior on the slopes (online self-calibration): a very strong prior returns the
+// prior's raw slopes; a moderate one lands between the prior and the free fit; weight 0 gives
+// exactly the free fit; a prior of the wrong size is refused.
+TEST(LogisticRegression, GaussianPriorPullsTowardThePriorCoefficients) {
+  Eigen::MatrixXd X;
+  std::vector<int> y;
+  makeData(30, 30, 21, &X, &y);
+  LogisticRegressionConfig cfg;
+  LogisticModel free_fit, strong, moderate;
+  std::string err;
+  ASSERT_TRUE(fitLogisticRegression(X, y, {}, cfg, &free_fit, &err)) << err;
+  cfg.prior_beta = Eigen::Vector3d(2.0, -3.0, 2.5);
+  cfg.prior_weight = 1e9;
+  ASSERT_TRUE(fitLogisticRegression(X, y, {}, cfg, &strong, &err)) << err;
+  for (int j = 1; j < 3; ++j) EXPECT_NEAR(strong.beta(j), cfg.prior_beta(j), 1e-5) << j;
+  // The intercept stays free: with the prior's slopes it balances the classes, so the
+  // weighted mean of p - y is 0 (the intercept's stationarity condition).
+  double balance = 0.0;
+  for (int i = 0; i < X.rows(); ++i) balance += strong.probability(X.row(i).transpose()) - y[i];
+  EXPECT_NEAR(balance, 0.0, 1e-6);
+  cfg.prior_weight = 20.0;
+  ASSERT_TRUE(fitLogisticRegression(X, y, {}, cfg, &moderate, &err)) << err;
+  EXPECT_TRUE(moderate.converged);
+  const double d_free = (free_fit.beta - cfg.prior_beta).norm();
+  const double d_mod = (moderate.beta - cfg.prior_beta).norm();
+  EXPECT_LT(d_mod, 0.8 * d_free);
+  EXPECT_GT((moderate.beta - free_fit.beta).norm(), 0.05 * d_free);
+  cfg.prior_weight = 0.0;  // prior_beta ignored
+  LogisticModel zero;
+  ASSERT_TRUE(fitLogisticRegression(X, y, {}, cfg, &zero, &err)) << err;
+  EXPECT_TRUE(zero.beta.isApprox(free_fit.beta, 1e-12));
+  cfg.prior_weight = 1.0;
+  cfg.prior_beta = Eigen::Vector2d(1.0, 1.0);  // wrong size for 2 features
+  EXPECT_FALSE(fitLogisticRegression(X, y, {}, cfg, &zero, &err));
+  EXPECT_NE(err.find("prior_beta needs 3"), std::string::npos) << err;
 }

@@ -1,4 +1,4 @@
-#include "coral_introspection/eval/metrics.hpp"
+#include "coral_introspection/coral/metrics.hpp"
 
 #include <algorithm>
 #include <cmath>
