@@ -77,10 +77,12 @@ if [ -f "${PLUGIN}" ] && [ ${#eval_libs[@]} -eq 2 ]; then
     sed 's/^  //' | sort -u >>"${PLUGIN_SYMS}"
   shared="$(sort -u "${PLUGIN_SYMS}" | comm -12 - "${EVAL_SYMS}")"
   named="$(grep -E 'coral_introspection::(core|ros_adapters)::[A-Za-z_:]*([Nn]dt|[Cc]fear|Roc|roc[A-Z]|[Rr]eport|[Tt]raining|Evaluation|evaluate|OxfordDataset|crossValid)' \
-    "${PLUGIN_SYMS}" | grep -v -e 'ros_adapters::reportStatus(' -e 'core::rocCurve(' -e 'core::RocPoint' || true)"
+    "${PLUGIN_SYMS}" | grep -v -e 'ros_adapters::reportStatus(' -e 'core::rocCurve(' -e 'core::RocPoint' \
+      -e 'core::CoralPair::' || true)"
   # (reportStatus: the AlignmentQuality status of an online::Report, the nodelet's own code.
   # The logistic-regression fit and the metrics (auc, rocCurve in the same object file) are
-  # coral code since online self-calibration refits the classifier in the nodelet.)
+  # coral code since online self-calibration refits the classifier in the nodelet.
+  # CoralPair::evaluate is CorAl at a pose, the verdict's own computation.)
   if [ "$(wc -l <"${EVAL_SYMS}")" -lt 20 ]; then
     bad "eval_symbol_list_too_short"  # the comparison would prove nothing
   elif [ -n "${shared}${named}" ]; then
