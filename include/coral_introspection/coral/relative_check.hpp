@@ -61,7 +61,7 @@ struct RelativeCheckResult {
   // when that Q is below Q at the pose. Empty name = no better neighbour.
   ToleranceOffset hint;
   std::vector<Axis> flat_axes;
-  int coral_evaluations = 0;  // computeCoral calls made (0 for decideRelative)
+  int coral_evaluations = 0;  // CoralPair poses evaluated (0 for decideRelative)
 };
 
 // CorAl of the pair with b moved by T_a_b * offset.delta, for each offset, every query (no
