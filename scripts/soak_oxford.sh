@@ -3,7 +3,8 @@
 # loop (`rosbag play -l`, with --clock if asked) through CoralNodelet for a given time;
 # coral_stream_bench --monitor prints memory, verdict rate, latency and how many loops were
 # judged after their first scan.
-#   scripts/soak_oxford.sh [--port 11311] [--duration 1800] [--clock] [--data DIR]
+#   scripts/soak_oxford.sh [--port 11311] [--duration 1800] [--clock] [--data DIR] [--config FILE]
+# (--config: parameter file of the nodelet, default config/radar_oxford.yaml)
 # Expects a built workspace (coral_build). Everything it starts is stopped on exit.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
@@ -13,6 +14,7 @@ set -u
 port=11311
 duration=1800
 clock=""
+config="${CORAL_REPO}/config/radar_oxford.yaml"
 data="${CORAL_DATA_DIR:-${CORAL_REPO}/../shared/data}/oxford_radar_tiny"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -20,6 +22,7 @@ while [ $# -gt 0 ]; do
     --duration) duration="$2"; shift 2 ;;
     --clock) clock="--clock"; shift ;;
     --data) data="$2"; shift 2 ;;
+    --config) config="$2"; shift 2 ;;
     *) echo "unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -38,7 +41,7 @@ pids+=($!)
 until rosparam list >/dev/null 2>&1; do sleep 0.2; done
 [ -n "${clock}" ] && rosparam set /use_sim_time true
 roslaunch -p "${port}" coral_introspection coral.launch \
-  config:="${CORAL_REPO}/config/radar_oxford.yaml" input_type:=polar_image \
+  config:="${config}" input_type:=polar_image \
   polar_image:=/radar/polar fixed_frame:=odom output:=log >/dev/null 2>&1 &
 pids+=($!)
 rosbag play -q -l ${clock} -d 2 "${bag}" >/dev/null 2>&1 &

@@ -22,6 +22,7 @@
 #include "coral_introspection/ros/check_alignment.hpp"
 #include "coral_introspection/ros/diagnostics.hpp"
 #include "coral_introspection/ros/guarded.hpp"
+#include "coral_introspection/ros/heap_release.hpp"
 #include "coral_introspection/ros/outputs.hpp"
 #include "coral_introspection/ros/scan_source.hpp"
 
@@ -222,6 +223,14 @@ class CoralNodelet : public nodelet::Nodelet {
       const std::string& e = introspector_.calibration().status().last_error;
       if (!e.empty()) NODELET_WARN_THROTTLE(30.0, "self-calibration: %s", e.c_str());
     }
+    // After the verdict is out, rate-limited: the freed memory of all threads' malloc
+    // arenas goes back to the system (RSS stays flat, heap_release.hpp says why).
+    const ros::SteadyTime now = ros::SteadyTime::now();
+    if (heap_release_.due(now.toSec(), cfg.heap_release_interval)) {
+      const bool released = ros_adapters::releaseFreeHeap();
+      NODELET_DEBUG("heap release (%s): %.3f ms", released ? "malloc_trim" : "unavailable",
+                    (ros::SteadyTime::now() - now).toSec() * 1e3);
+    }
   }
 
   // A refused request is answered with `error` set; a failed call means an internal error.
@@ -266,7 +275,8 @@ class CoralNodelet : public nodelet::Nodelet {
   std::optional<core::ClassifierConfig> calibrated_;  // self-calibration in use (config_mutex_)
   std::atomic<bool> reset_requested_{false};
   online::Mailbox<ScanEvent> mailbox_{100, &CoralNodelet::dropNotice};
-  online::Introspector introspector_;  // worker thread only
+  online::Introspector introspector_;            // worker thread only
+  ros_adapters::HeapReleaseTimer heap_release_;  // worker thread only
   std::thread worker_;
   ros_adapters::Stats stats_;  // thread-safe: everything diagnostics reads
   std::unique_ptr<ros_adapters::ScanSource> source_;

@@ -141,6 +141,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
       r.get("tf_timeout", &c->tf_timeout) && r.get("time_budget", &c->time_budget) &&
       r.get("testing/pair_delay", &c->testing_pair_delay) &&
+      r.get("heap_release_interval", &c->heap_release_interval) &&
       r.get("pairing/min_distance", &o.pairing.min_distance) &&
       r.get("pairing/max_time_gap", &o.pairing.max_time_gap) &&
       r.get("coral/dimension", &o.coral.dimension) && r.get("coral/radius", &o.coral.radius) &&
@@ -236,6 +237,9 @@ std::string NodeConfig::validate() const {
     add("tf_timeout must be in (0, 60] s (got " + std::to_string(tf_timeout) + ")");
   if (!(time_budget >= 0.0 && time_budget <= 3600.0))
     add("time_budget must be in [0, 3600] s, 0 = off (got " + std::to_string(time_budget) + ")");
+  if (!(heap_release_interval >= 0.0 && heap_release_interval <= 3600.0))
+    add("heap_release_interval must be in [0, 3600] s, 0 = off (got " +
+        std::to_string(heap_release_interval) + ")");
   if (!(testing_pair_delay >= 0.0 && testing_pair_delay <= 60.0))
     add("testing/pair_delay must be in [0, 60] s (got " + std::to_string(testing_pair_delay) + ")");
   add(online.validate());

@@ -151,6 +151,18 @@ TEST(Params, OutOfRangeValueNamesParamValueAndRange) {
   q["queue_size"] = 0;
   EXPECT_FALSE(ros_adapters::loadNodeConfig(q, &c, &err));
   EXPECT_NE(err.find("queue_size"), std::string::npos) << err;
+
+  for (double bad : {-1.0, 3601.0}) {
+    XmlRpcValue h;
+    h["heap_release_interval"] = bad;
+    EXPECT_FALSE(ros_adapters::loadNodeConfig(h, &c, &err));
+    EXPECT_NE(err.find("heap_release_interval must be in [0, 3600] s"), std::string::npos) << err;
+  }
+  XmlRpcValue h;
+  h["heap_release_interval"] = 0.0;  // off
+  c = ros_adapters::NodeConfig();
+  EXPECT_TRUE(ros_adapters::loadNodeConfig(h, &c, &err)) << err;
+  EXPECT_EQ(c.heap_release_interval, 0.0);
 }
 
 TEST(Params, WrongTypeAndUnknownChoiceAreRejected) {
