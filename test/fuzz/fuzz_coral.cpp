@@ -1,15 +1,23 @@
-// libFuzzer harness: two small point sets and a CorAl config -> computeCoral (Eq. 1-6).
+// libFuzzer harness: two small point sets and a CorAl config -> computeCoral (Eq. 1-6) and
+// core::CoralPair, the verdict path (CorAl of one pair at several poses, probes, the
+// relative check).
 // Each point starts with a control byte choosing how its coordinates are read: small
 // quantised values (clusters with neighbours), raw float32 or float64 (NaN, Inf, denormals,
 // huge values), or a cluster point shifted by a special value (1e10, 9.3e18, 1e30, -1e300,
 // denormal, ...). The config covers the input hygiene (coordinate limit up to the float
 // range of scored positions, max_points, merging), the voxel filter and the query subset.
 // The result must be defined whatever the input: finite aggregates, counts that add up, and no
-// verdict without overlapping points or with a reason.
+// verdict without overlapping points or with a reason. A block of bytes after the config
+// (kPairBlock, all zero in the older corpus inputs = computeCoral only) chooses how
+// CoralPair is driven: at two fuzzed poses (translations up to 1e6 m, any rotation, about z
+// only in 2D) with the probe of evaluate() equal to evaluateProbe() and a relative check of
+// fuzzed tolerance, or at the identity, where it must count what computeCoral counts.
 #include <cmath>
 #include <limits>
 
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/coral_pair.hpp"
+#include "coral_introspection/coral/relative_check.hpp"
 #include "fuzz_input.hpp"
 
 using namespace coral_introspection::core;
@@ -17,7 +25,12 @@ using coral_fuzz::FuzzInput;
 
 namespace {
 
-constexpr std::size_t kMaxPoints = 256;  // per cloud: keeps one execution well under 1 ms
+// Per cloud: keeps one execution (computeCoral, or a CoralPair and its poses) under ~4 ms
+// under the sanitizers.
+constexpr std::size_t kMaxPoints = 128;
+// Bytes of the CoralPair block read right after the config (fixed length: tools that
+// extend corpus inputs insert it at offset 23, after readConfig's bytes).
+constexpr std::size_t kPairBlock = 20;
 
 double special(uint8_t k) {
   static const double v[] = {1e10,
@@ -94,34 +107,40 @@ CoralConfig readConfig(FuzzInput& in) {
   return c;
 }
 
-}  // namespace
-
-extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
-  FuzzInput in(data, size);
-  const CoralConfig cfg = readConfig(in);
-  if (!cfg.validate().empty()) return 0;  // precondition of computeCoral
-  Scan a, b;
-  for (Scan* s : {&a, &b})
-    for (int i = 0; i < 2; ++i) s->origin[i] = in.take<int8_t>();
-  while (in.remaining() > 0) {
-    const uint8_t ctrl = in.byte();
-    Scan& s = ctrl & 1 ? b : a;
-    const Vec3 p = readPoint(in, ctrl);
-    if (s.points.size() < kMaxPoints) s.points.push_back(p);
+// 7 bytes: translation (5 cm steps, or 0.5 m steps, or a special offset along x) and roll,
+// pitch, yaw in 1.4 degree steps over the whole circle (2D: yaw only, no z).
+Eigen::Isometry3d readPose(FuzzInput& in, int dimension) {
+  const uint8_t kind = in.byte();
+  Vec3 t = takeVec<int8_t>(in) * (kind & 1 ? 0.5 : 0.05);
+  if ((kind & 6) == 6) {
+    const double far[] = {1e3, -1e6, 1e-300, 4e3};
+    t[0] += far[(kind >> 3) & 3];
   }
-  const CoralResult r = computeCoral(a, b, cfg);
-  // Every input point is usable or counted as dropped.
-  std::size_t finite = 0;
-  for (const Scan* s : {&a, &b})
-    for (const Vec3& p : s->points) finite += p.allFinite();
-  CORAL_FUZZ_CHECK(r.num_non_finite == a.points.size() + b.points.size() - finite);
+  Vec3 angle = takeVec<int8_t>(in) * (M_PI / 128.0);
+  if (dimension == 2) {
+    t[2] = 0.0;
+    angle[0] = angle[1] = 0.0;
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() =
+      (Eigen::AngleAxisd(angle[2], Vec3::UnitZ()) * Eigen::AngleAxisd(angle[1], Vec3::UnitY()) *
+       Eigen::AngleAxisd(angle[0], Vec3::UnitX()))
+          .toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+// What every result (computeCoral or CoralPair) must satisfy; `finite`: usable input points.
+void checkResult(const CoralResult& r, const CoralConfig& cfg, std::size_t finite,
+                 std::size_t total) {
+  CORAL_FUZZ_CHECK(r.num_non_finite == total - finite);
   CORAL_FUZZ_CHECK(r.num_points_a + r.num_points_b + r.num_out_of_range == finite);
   CORAL_FUZZ_CHECK(std::isfinite(r.h_joint) && std::isfinite(r.h_sep) && std::isfinite(r.quality) &&
                    std::isfinite(r.mme) && std::isfinite(r.quality_stderr));
   CORAL_FUZZ_CHECK(r.valid == r.reason.empty());
   if (!r.reason.empty() && r.reason.find("refused") != std::string::npos) {
     CORAL_FUZZ_CHECK(cfg.refuse_over_max_points && !r.valid);
-    return 0;
+    return;
   }
   const auto max_points = static_cast<std::size_t>(cfg.max_points);
   CORAL_FUZZ_CHECK(r.num_points_a - std::min(r.num_points_a, max_points) + r.num_points_b -
@@ -144,5 +163,111 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     }
     CORAL_FUZZ_CHECK(valid == r.num_valid);
   }
+}
+
+// The probe of evaluate() and evaluateProbe() score the same points the same way.
+void checkSameAggregate(const CoralResult& x, const CoralResult& y) {
+  CORAL_FUZZ_CHECK(x.valid == y.valid && x.reason == y.reason);
+  CORAL_FUZZ_CHECK(x.num_queries == y.num_queries && x.num_overlap == y.num_overlap &&
+                   x.num_valid == y.num_valid && x.num_rejected == y.num_rejected &&
+                   x.num_degenerate == y.num_degenerate);
+  CORAL_FUZZ_CHECK(x.h_joint == y.h_joint && x.h_sep == y.h_sep && x.quality == y.quality);
+}
+
+// The relative check's decision is consistent with its own numbers (relative_check.hpp).
+void checkRelative(const RelativeCheckResult& r, const CoralResult& probe, int dimension,
+                   const RelativeCheckConfig& rc) {
+  if (!probe.valid) {
+    CORAL_FUZZ_CHECK(!r.valid && r.coral_evaluations == 0);
+    return;
+  }
+  const std::size_t axes = toleranceAxes(dimension).size();
+  CORAL_FUZZ_CHECK(r.axes.size() == axes && r.coral_evaluations == static_cast<int>(2 * axes));
+  CORAL_FUZZ_CHECK(r.q == probe.quality);
+  CORAL_FUZZ_CHECK(!r.misaligned || r.valid);
+  CORAL_FUZZ_CHECK(r.hint.name.empty() || r.valid);
+  if (!r.valid) return;
+  // s_k = (Q - min) / mean |Q_neighbour - Q| lies in [-1, 2].
+  CORAL_FUZZ_CHECK(r.score >= -1.0 - 1e-9 && r.score <= 2.0 + 1e-9);
+  CORAL_FUZZ_CHECK(r.misaligned == (r.score > rc.margin));
+  CORAL_FUZZ_CHECK(std::isfinite(r.scale) && r.scale > 0.0);
+  for (const AxisProbe& p : r.axes)
+    CORAL_FUZZ_CHECK(std::isfinite(p.sensitivity) && p.sensitivity >= 0.0 &&
+                     p.sensitivity <= r.scale);
+}
+
+// CoralPair driven by the kPairBlock bytes after the mode byte (mode 0: not at all; `plain`
+// is computeCoral's result in mode 2).
+void fuzzPair(FuzzInput& in, uint8_t mode, const Scan& a, const Scan& b, const CoralConfig& cfg,
+              const CoralResult& plain, std::size_t finite) {
+  const std::size_t total = a.points.size() + b.points.size();
+  // Probe of 1-40 queries per scan; in mode 3 also 0 (every query, 1 in 8). Mode 1's
+  // relative check scores the probe at 2 x axes poses: a small probe keeps it cheap.
+  const uint8_t probe_choice = in.byte();
+  const int probe_queries = mode == 3 && probe_choice % 8 == 0 ? 0 : 1 + probe_choice % 40;
+  ToleranceConfig tol;
+  tol.translation = in.range(1, 40) * 0.05;
+  tol.rotation_deg = in.range(1, 45);
+  RelativeCheckConfig rc;
+  rc.margin = in.range(0, 19) * 0.1;
+  rc.flat_ratio = in.range(0, 9) * 0.1;
+  const Eigen::Isometry3d T1 = readPose(in, cfg.dimension);
+  const Eigen::Isometry3d T2 = readPose(in, cfg.dimension);
+  if (mode == 0) return;
+  const CoralPair pair(a, b, cfg, probe_queries);
+  if (mode == 2) {
+    // At the identity CoralPair finds the same neighbours as computeCoral's joint grid (the
+    // moments may differ in summation order, so only counts are compared).
+    const CoralResult r = pair.evaluate(Eigen::Isometry3d::Identity());
+    checkResult(r, cfg, finite, total);
+    CORAL_FUZZ_CHECK(r.num_points_a == plain.num_points_a && r.num_points_b == plain.num_points_b &&
+                     r.num_used_a == plain.num_used_a && r.num_used_b == plain.num_used_b &&
+                     r.num_thinned == plain.num_thinned && r.num_merged == plain.num_merged);
+    if (cfg.max_queries == 0 && plain.reason.find("refused") == std::string::npos)
+      CORAL_FUZZ_CHECK(r.num_queries == plain.num_queries && r.num_overlap == plain.num_overlap);
+    return;
+  }
+  CoralResult probe;
+  const CoralResult r1 = pair.evaluate(T1, &probe);
+  checkResult(r1, cfg, finite, total);
+  if (r1.reason.find("refused") != std::string::npos) return;
+  checkSameAggregate(probe, pair.evaluateProbe(T1));
+  if (mode == 1) {
+    checkRelative(relativeCheck(pair, T1, probe, cfg.dimension, tol, rc), probe, cfg.dimension, rc);
+  } else {
+    checkResult(pair.evaluate(T2), cfg, finite, total);
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
+  FuzzInput in(data, size);
+  const CoralConfig cfg = readConfig(in);
+  if (!cfg.validate().empty()) return 0;  // precondition of computeCoral
+  FuzzInput pair_in(in.rest(), std::min(in.remaining(), kPairBlock));
+  for (std::size_t i = 0; i < kPairBlock; ++i) in.byte();
+  Scan a, b;
+  for (Scan* s : {&a, &b})
+    for (int i = 0; i < 2; ++i) s->origin[i] = in.take<int8_t>();
+  while (in.remaining() > 0) {
+    const uint8_t ctrl = in.byte();
+    Scan& s = ctrl & 1 ? b : a;
+    const Vec3 p = readPoint(in, ctrl);
+    if (s.points.size() < kMaxPoints) s.points.push_back(p);
+  }
+  // Every input point is usable or counted as dropped.
+  std::size_t finite = 0;
+  for (const Scan* s : {&a, &b})
+    for (const Vec3& p : s->points) finite += p.allFinite();
+  // computeCoral in modes 0 and 2 (compared with CoralPair there); modes 1 and 3 spend the
+  // execution on CoralPair alone.
+  const uint8_t mode = pair_in.byte() & 3;
+  CoralResult plain;
+  if (mode == 0 || mode == 2) {
+    plain = computeCoral(a, b, cfg);
+    checkResult(plain, cfg, finite, a.points.size() + b.points.size());
+  }
+  fuzzPair(pair_in, mode, a, b, cfg, plain, finite);
   return 0;
 }
