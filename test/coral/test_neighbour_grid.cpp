@@ -44,6 +44,39 @@ TEST(NeighbourGrid, MatchesBruteForce) {
   }
 }
 
+// Ties on a 5 cm lattice: a point exactly at the radius passes the rounded distance test
+// and must be found although q.x - r rounds into the next cell (q.x = -0.1, p.x = -0.35,
+// r = 0.25, cell 0.35: fuzz_coral found CoralPair and computeCoral disagreeing on one).
+TEST(NeighbourGrid, FindsLatticePointsExactlyAtTheRadius) {
+  Points pts;
+  for (int i = -40; i <= 40; ++i)
+    for (int j = -40; j <= 40; j += 5) pts.emplace_back(i * 0.05, j * 0.05, 0.0);
+  for (int dim : {2, 3}) {
+    const NeighbourGrid grid(pts, 0.35, dim);
+    int ties = 0;
+    for (int qi = -40; qi <= 40; qi += 3)
+      for (int ri = 1; ri < 20; ++ri) {
+        const Vec3 q(qi * 0.05, 0.0, 0.0);
+        const double r = ri * 0.05;
+        std::vector<uint32_t> got;
+        grid.forEachWithin(q, r, [&](const Vec3&, uint32_t i) { got.push_back(i); });
+        std::sort(got.begin(), got.end());
+        const std::vector<uint32_t> want = brute(pts, q, r, dim);
+        ASSERT_EQ(got, want) << "dim " << dim << " q.x " << q.x() << " r " << r;
+        for (uint32_t i : want) ties += (pts[i] - q).squaredNorm() == r * r;
+      }
+    EXPECT_GT(ties, 100);  // the lattice does put points exactly on the balls
+  }
+  // The case found by the fuzzer: a point 5e-35 m beyond the ball whose rounded squared
+  // distance equals r^2.
+  const Points tiny = {Vec3(-5.0602862189302745e-35, -5.0602862189302745e-35, 0.0)};
+  const NeighbourGrid g(tiny, 0.35, 2);
+  int found = 0;
+  g.forEachWithin(Vec3(0.30000000000000004, 0.0, 0.0), 0.30000000000000004,
+                  [&](const Vec3&, uint32_t) { ++found; });
+  EXPECT_EQ(found, 1);
+}
+
 TEST(NeighbourGrid, EmptyCloud) {
   const NeighbourGrid grid(Points{}, 1.0, 3);
   int n = 0;

@@ -38,11 +38,20 @@ class NeighbourGrid {
   template <class F>
   void forEachCellNear(const Vec3& q, double radius, F&& f) const {
     if (points_.empty()) return;
-    const double r2 = radius * radius;
-    const int64_t x0 = cellCoord(q.x() - radius), x1 = cellCoord(q.x() + radius);
-    const int64_t y0 = cellCoord(q.y() - radius), y1 = cellCoord(q.y() + radius);
-    const int64_t z0 = dim_ == 3 ? cellCoord(q.z() - radius) : 0;
-    const int64_t z1 = dim_ == 3 ? cellCoord(q.z() + radius) : 0;
+    // A point exactly at `radius` (a tie, common on quantised coordinates: q.x = -0.1,
+    // p.x = -0.35, r = 0.25 m) passes the callers' rounded test |p - q|^2 <= r^2 even when
+    // q.x - r rounds into the next cell. Each axis's cell range, and the pruning, use a reach
+    // wider by far more than rounding error (kTieMargin relative to radius + |coordinate|;
+    // under 0.11 cell up to where coordinates are clamped), so every point a distance test
+    // can accept lies in a visited cell.
+    auto reach = [&](double v) { return radius + kTieMargin * (radius + std::abs(v)); };
+    const double rx = reach(q.x()), ry = reach(q.y()), rz = dim_ == 3 ? reach(q.z()) : 0.0;
+    const double r_max = std::max({rx, ry, rz});
+    const double r2 = r_max * r_max;
+    const int64_t x0 = cellCoord(q.x() - rx), x1 = cellCoord(q.x() + rx);
+    const int64_t y0 = cellCoord(q.y() - ry), y1 = cellCoord(q.y() + ry);
+    const int64_t z0 = dim_ == 3 ? cellCoord(q.z() - rz) : 0;
+    const int64_t z1 = dim_ == 3 ? cellCoord(q.z() + rz) : 0;
     for (int64_t ix = x0; ix <= x1; ++ix) {
       const double gx = gap(q.x(), ix);
       if (gx > r2) continue;
@@ -88,6 +97,8 @@ class NeighbourGrid {
   // Cell coordinates are clamped to +-kMaxCell: no float-to-integer overflow, no signed
   // overflow in neighbour arithmetic, whatever the input.
   static constexpr int64_t kMaxCell = int64_t{1} << 40;
+  // Relative widening of a query's ball for the cell search (forEachCellNear).
+  static constexpr double kTieMargin = 1e-13;
 
  private:
   struct Cell {
