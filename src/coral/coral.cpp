@@ -365,8 +365,11 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   const Points& pb = *prepared.cloud[1];
   const auto m = static_cast<std::size_t>(cfg.max_queries);
   const bool subset = m > 0 && (pa.size() > m || pb.size() > m);
-  const NeighbourGrid grid(pa, pb, subset ? detail::queryCellSize(cfg) : cfg.maxRadius(),
-                           cfg.dimension);
+  // scoreAll searches the 3^N cells around each point's cell: cells slightly larger than the
+  // largest radius keep a neighbour exactly at the radius (a tie the rounded distance test
+  // accepts) within them, as CoralPair's searches do (NeighbourGrid::forEachCellNear).
+  const NeighbourGrid grid(
+      pa, pb, subset ? detail::queryCellSize(cfg) : cfg.maxRadius() * (1.0 + 1e-6), cfg.dimension);
   std::vector<PointEntropy> per_point;
   if (subset) {
     const std::vector<uint32_t> queries = detail::selectQueries(grid, cfg);
