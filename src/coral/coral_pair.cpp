@@ -123,7 +123,8 @@ struct CoralPair::Impl {
   }
 
   template <int Dim>
-  CoralResult evaluate(const Eigen::Isometry3d& T_a_b, bool probe_only, CoralResult* probe) const {
+  CoralResult evaluate(const Eigen::Isometry3d& T_a_b, bool probe_only, bool per_point,
+                       CoralResult* probe) const {
     CoralResult res = base;
     if (refused) return res;
     std::vector<PointEntropy> pp;
@@ -149,7 +150,7 @@ struct CoralPair::Impl {
       }
     }
     CoralConfig c = cfg;
-    c.per_point = cfg.per_point && !probe_only;
+    c.per_point = cfg.per_point && per_point && !probe_only;
     finalizeCoral(c, std::move(pp), &res);
     return res;
   }
@@ -194,21 +195,24 @@ CoralPair::CoralPair(const Scan& a, const Scan& b, const CoralConfig& cfg, int p
 
 CoralPair::~CoralPair() = default;
 
-CoralResult CoralPair::evaluate(const Eigen::Isometry3d& T_a_b, CoralResult* probe) const {
+CoralResult CoralPair::evaluate(const Eigen::Isometry3d& T_a_b, CoralResult* probe,
+                                bool per_point) const {
   const auto t0 = std::chrono::steady_clock::now();
-  CoralResult r = impl_->cfg.dimension == 2 ? impl_->evaluate<2>(T_a_b, false, probe)
-                                            : impl_->evaluate<3>(T_a_b, false, probe);
+  CoralResult r = impl_->cfg.dimension == 2 ? impl_->evaluate<2>(T_a_b, false, per_point, probe)
+                                            : impl_->evaluate<3>(T_a_b, false, per_point, probe);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
 
 CoralResult CoralPair::evaluateProbe(const Eigen::Isometry3d& T_a_b) const {
   const auto t0 = std::chrono::steady_clock::now();
-  CoralResult r = impl_->cfg.dimension == 2 ? impl_->evaluate<2>(T_a_b, true, nullptr)
-                                            : impl_->evaluate<3>(T_a_b, true, nullptr);
+  CoralResult r = impl_->cfg.dimension == 2 ? impl_->evaluate<2>(T_a_b, true, false, nullptr)
+                                            : impl_->evaluate<3>(T_a_b, true, false, nullptr);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
+
+const CoralConfig& CoralPair::config() const { return impl_->cfg; }
 
 }  // namespace core
 }  // namespace coral_introspection

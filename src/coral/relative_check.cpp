@@ -16,15 +16,11 @@ std::string RelativeCheckConfig::validate() const {
       .str();
 }
 
-std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
-                                          const Eigen::Isometry3d& T_a_b,
-                                          const std::vector<ToleranceOffset>& offsets,
-                                          const CoralConfig& cfg) {
-  CoralConfig c = cfg;
-  c.per_point = false;  // only the aggregates are kept
-  const CoralPair pair(a, b, c);
+std::vector<CoralResult> neighbourResults(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                          const std::vector<ToleranceOffset>& offsets) {
   std::vector<CoralResult> out;
-  for (const ToleranceOffset& o : offsets) out.push_back(pair.evaluate(T_a_b * o.delta));
+  for (const ToleranceOffset& o : offsets)  // only the aggregates are kept
+    out.push_back(pair.evaluate(T_a_b * o.delta, nullptr, /*per_point=*/false));
   return out;
 }
 

@@ -71,13 +71,24 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
   }
 }
 
+std::unique_ptr<CoralPair> prepareVerdictPair(const Scan& a, const Scan& b,
+                                              const CoralConfig& coral, const VerdictConfig& cfg) {
+  const bool rel_needed = cfg.method != VerdictMethod::kClassifier;
+  return std::make_unique<CoralPair>(a, b, coral, rel_needed ? cfg.relative.probe_queries : 0);
+}
+
 AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                 const CoralConfig& coral, const VerdictConfig& cfg) {
+  return judgeAlignment(*prepareVerdictPair(a, b, coral, cfg), T_a_b, cfg);
+}
+
+AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                const VerdictConfig& cfg) {
   AlignmentVerdict v;
   // One prepared pair for every pose: the relative check's Q values and the Q at the pose
   // come from the same filtered points and queries (coral_pair.hpp).
   const bool rel_needed = cfg.method != VerdictMethod::kClassifier;
-  const CoralPair pair(a, b, coral, rel_needed ? cfg.relative.probe_queries : 0);
+  const CoralConfig& coral = pair.config();
   CoralResult at_pose_probe;
   v.coral = pair.evaluate(T_a_b, rel_needed ? &at_pose_probe : nullptr);
   if (!v.coral.valid) {

@@ -37,7 +37,8 @@ PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isom
   cc.per_point = per_point;
   // The one verdict function (coral/verdict.hpp), as coral_train evaluates it: classifier
   // (Eq. 9-10), relative check at the tolerance, or both, as classifier/method says.
-  j.verdict = core::judgeAlignment(ref, cur, T_ref_cur, cc, cfg.verdict);
+  j.prepared = core::prepareVerdictPair(ref, cur, cc, cfg.verdict);
+  j.verdict = core::judgeAlignment(*j.prepared, T_ref_cur, cfg.verdict);
   if (keep_scans) {
     j.ref = std::move(ref);
     j.cur = core::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
@@ -72,8 +73,10 @@ bool Introspector::setConfig(const IntrospectorConfig& cfg, std::string* error) 
   const core::CoralConfig &o = cfg_.coral, &n = cfg.coral;
   if (o.radius != n.radius || o.dimension != n.dimension || o.epsilon != n.epsilon ||
       cfg_.verdict.tolerance.translation != cfg.verdict.tolerance.translation ||
-      cfg_.verdict.tolerance.rotation_deg != cfg.verdict.tolerance.rotation_deg)
+      cfg_.verdict.tolerance.rotation_deg != cfg.verdict.tolerance.rotation_deg) {
     calibration_.clearSamples();
+    pending_.reset();  // a pair prepared with the old settings would add old features
+  }
   calibration_.setPrior(cfg.verdict.classifier);
   cfg_ = cfg;
   updateJudgingConfig();
@@ -179,21 +182,19 @@ void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) 
   rep->id_ref = ref.id;
   rep->T_fixed_ref = ref.T_fixed_sensor;
   const Eigen::Isometry3d T_ref_cur = ref.T_fixed_sensor.inverse() * cur.T_fixed_sensor;
-  // Self-calibration needs the reference scan back (judgePair keeps it with keep_scans).
-  const bool calibrating = cfg_.calibration.enabled;
-  rep->pair = judgePair(std::move(a), b, T_ref_cur, judging_, options.per_point,
-                        options.keep_scans || calibrating);
-  // Self-calibration: set the pair aside for calibrate() (newest wins if not called).
-  if (calibrating && rep->pair.verdict.coral.valid && calibration_.select()) {
+  rep->pair =
+      judgePair(std::move(a), b, T_ref_cur, judging_, options.per_point, options.keep_scans);
+  // Self-calibration: set the prepared pair aside for calibrate() (newest wins if not
+  // called); its extra poses then cost only the other-cloud searches.
+  if (cfg_.calibration.enabled && rep->pair.verdict.coral.valid && calibration_.select()) {
     CalibrationJob job;
-    job.ref = options.keep_scans ? rep->pair.ref : std::move(rep->pair.ref);
-    job.cur = std::move(b);
+    job.pair = rep->pair.prepared;
     job.T_ref_cur = T_ref_cur;
     job.at_pose = rep->pair.verdict.coral;
     job.at_pose.per_point.clear();
     pending_ = std::move(job);
   }
-  if (!options.keep_scans) rep->pair.ref = rep->pair.cur = core::Scan();
+  rep->pair.prepared.reset();  // freed now unless calibration holds it
   ++counters_.pairs;
   counters_.coral_seconds += rep->pair.verdict.coral.seconds;
   counters_.coral_evaluations += 1 + rep->pair.verdict.relative.coral_evaluations;
@@ -209,7 +210,7 @@ bool Introspector::calibrate() {
   pending_.reset();
   // Features at the configured CorAl settings and tolerance; the relative check's margin
   // settings decide acceptance (never the classifier being calibrated).
-  calibration_.addPair(job.ref, job.cur, job.T_ref_cur, job.at_pose, cfg_.coral, cfg_.verdict);
+  calibration_.addPair(*job.pair, job.T_ref_cur, job.at_pose, cfg_.verdict);
   updateJudgingConfig();
   return true;
 }

@@ -62,16 +62,15 @@ bool SelfCalibration::select() {
          ++status_.pairs_selected > 0;
 }
 
-bool SelfCalibration::addPair(const core::Scan& ref, const core::Scan& cur,
-                              const Eigen::Isometry3d& T_ref_cur, const core::CoralResult& at_pose,
-                              const core::CoralConfig& coral, const core::VerdictConfig& verdict) {
+bool SelfCalibration::addPair(const core::CoralPair& pair, const Eigen::Isometry3d& T_ref_cur,
+                              const core::CoralResult& at_pose,
+                              const core::VerdictConfig& verdict) {
   if (!at_pose.valid) return false;
   const auto start = std::chrono::steady_clock::now();
   tolerance_ = verdict.tolerance;
   const std::vector<core::ToleranceOffset> offsets =
-      core::toleranceOffsets(verdict.tolerance, coral.dimension);
-  const std::vector<core::CoralResult> moved =
-      core::neighbourResults(ref, cur, T_ref_cur, offsets, coral);
+      core::toleranceOffsets(verdict.tolerance, pair.config().dimension);
+  const std::vector<core::CoralResult> moved = core::neighbourResults(pair, T_ref_cur, offsets);
   status_.extra_evaluations += moved.size();
   std::vector<double> q;
   std::vector<CalibrationSample> negatives;

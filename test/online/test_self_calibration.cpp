@@ -202,14 +202,15 @@ TEST(SelfCalibration, RelativeCheckAcceptsThePairAtTruthOnly) {
   SelfCalibration cal;
   const core::CoralResult truth = core::computeCoral(p.a, core::transformScan(p.b, p.T_a_b), coral);
   ASSERT_TRUE(truth.valid);
-  EXPECT_TRUE(cal.addPair(p.a, p.b, p.T_a_b, truth, coral, v));
+  const core::CoralPair pair(p.a, p.b, coral);
+  EXPECT_TRUE(cal.addPair(pair, p.T_a_b, truth, v));
   EXPECT_EQ(cal.status().extra_evaluations, 6u);  // x, y, yaw in both directions
   EXPECT_EQ(cal.status().samples, 7u);            // 1 aligned + 6 misaligned
   // Two tolerances off along x: the pose is no minimum of Q, nothing is learnt from it.
   const Eigen::Isometry3d off = p.T_a_b * core::se2(0.6, 0.0, 0.0);
   const core::CoralResult at_off = core::computeCoral(p.a, core::transformScan(p.b, off), coral);
   ASSERT_TRUE(at_off.valid);
-  EXPECT_FALSE(cal.addPair(p.a, p.b, off, at_off, coral, v));
+  EXPECT_FALSE(cal.addPair(pair, off, at_off, v));
   EXPECT_EQ(cal.status().extra_evaluations, 12u);
   EXPECT_EQ(cal.status().samples, 7u);
   EXPECT_EQ(cal.status().pairs_accepted, 1u);

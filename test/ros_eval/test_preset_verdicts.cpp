@@ -1,13 +1,16 @@
 // The verdict path of check_alignment and of the stream (online::judgePair with the
 // preset's parameters as the nodelet loads them, no classifier override) on every shared
-// real pair of each preset's
-// sensor class: at ground truth the pair must be judged aligned, with the later scan moved
-// by one tolerance forward, backward, left or right (its sensor frame) misaligned.
-// The Livox keyframes cost about 13 x 5 CorAl evaluations of 0.1 s per pair with the
-// lidar_3d preset's r = 1 m: every 16th pair by default, all with CORAL_TEST_ALL_PAIRS=1.
+// real pair of each preset's sensor class: at ground truth the pair must be judged aligned,
+// with the later scan moved by one tolerance forward, backward, left or right (its sensor
+// frame) misaligned. Every pair of every data set (the Livox keyframes' 313 pairs take
+// 24-35 s). Where it does not hold (ACES corridors), each pair is classed by what CorAl
+// itself shows at ground truth (doc/verdict_pairs.md): the test asserts that every pair of
+// the clear class is right and bounds the documented exceptions.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "coral_introspection/eval/pair_datasets.hpp"
@@ -23,12 +26,34 @@ namespace {
 
 const char* const kCases[5] = {"ground truth", "forward", "backward", "left", "right"};
 
+// What CorAl shows at ground truth, from the relative check's probes there (Q one tolerance
+// away along each axis, which include the four offsets judged here):
+enum PairClass {
+  kClear,      // every neighbour's Q is above Q at ground truth, no flat axis
+  kFlat,       // Q ordering holds, but an axis is flat (unobservable, e.g. along a corridor)
+  kQOrder,     // some neighbour's Q <= Q at ground truth: CorAl itself ranks that offset at
+               // least as well aligned as the relation, so a verdict that calls the pose of
+               // lower Q aligned cannot be right on both
+  kNoVerdict,  // no valid relative check at ground truth
+  kClasses
+};
+const char* const kClassNames[kClasses] = {"clear", "flat axis", "Q order", "no verdict"};
+
+PairClass classify(const core::AlignmentVerdict& gt) {
+  const core::RelativeCheckResult& r = gt.relative;
+  if (!gt.valid || !r.valid) return kNoVerdict;
+  for (const core::AxisProbe& p : r.axes)
+    for (double qn : {p.q_plus, p.q_minus})
+      if (std::isfinite(qn) && qn <= r.q) return kQOrder;
+  return r.flat_axes.empty() ? kClear : kFlat;
+}
+
 struct Tally {
   int pairs = 0;
   int right[5] = {0, 0, 0, 0, 0};  // per case of kCases: verdict as expected
-  int wrong_flat = 0;              // wrong verdicts that report a flat (unobservable) axis
-  std::ostringstream wrong;        // the pairs judged wrongly, for the failure message
-  double rate(int c) const { return pairs ? static_cast<double>(right[c]) / pairs : 0.0; }
+  int class_pairs[kClasses] = {0, 0, 0, 0};
+  int class_wrong[kClasses] = {0, 0, 0, 0};  // wrong verdicts (of the five) per class
+  std::ostringstream wrong;                  // one line per pair with a wrong verdict (printed)
   bool allRight() const {
     for (int c = 0; c < 5; ++c)
       if (right[c] != pairs) return false;
@@ -56,9 +81,37 @@ void loadData(const ros_adapters::NodeConfig& node, const std::string& spec_text
   ASSERT_TRUE(core::loadPairDataset(spec, opt, nullptr, d, &err)) << err;
 }
 
-// Judges every `stride`-th pair of `spec` with `preset`.
-void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally* t,
-                  std::size_t stride = 1) {
+// Q one tolerance away along `axis` minus Q at ground truth, over the pair's largest axis
+// sensitivity (NaN when not probed).
+double relativeStep(const core::RelativeCheckResult& r, core::Axis axis, int sign) {
+  for (const core::AxisProbe& p : r.axes)
+    if (p.axis == axis && r.scale > 0.0) return ((sign > 0 ? p.q_plus : p.q_minus) - r.q) / r.scale;
+  return std::nan("");
+}
+
+// One line of the per-pair table (doc/verdict_pairs.md) for a pair with a wrong verdict.
+void describe(std::size_t i, const core::PairDataset& d, const core::AlignmentVerdict& gt,
+              PairClass cls, const bool ok[5], std::ostream& out) {
+  const core::ScanPair& p = d.pairs[i];
+  out << "  pair " << i << " (stamps " << std::fixed << std::setprecision(2) << d.scans[p.a].stamp
+      << " " << d.scans[p.b].stamp << ") " << kClassNames[cls] << "; wrong:";
+  for (int c = 0; c < 5; ++c)
+    if (!ok[c]) out << " " << kCases[c] << ";";
+  out << " flat:";
+  for (core::Axis a : gt.relative.flat_axes) out << " " << core::axisName(a);
+  out << "; Q <= Q(ground truth) at:";
+  for (const core::AxisProbe& a : gt.relative.axes)
+    for (int sign : {1, -1})
+      if ((sign > 0 ? a.q_plus : a.q_minus) <= gt.relative.q)
+        out << " " << core::axisName(a.axis) << (sign > 0 ? "+" : "-");
+  out << std::setprecision(4) << "; (Q(x+) - Q)/S " << relativeStep(gt.relative, core::Axis::kX, 1)
+      << ", (Q(x-) - Q)/S " << relativeStep(gt.relative, core::Axis::kX, -1) << ", S "
+      << gt.relative.scale << " nats; overlap " << std::setprecision(2) << gt.coral.overlap << "\n"
+      << std::defaultfloat;
+}
+
+// Judges every pair of `spec` with `preset`.
+void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally* t) {
   ros_adapters::NodeConfig node;
   loadPreset(preset, &node);
   core::PairDataset d;
@@ -67,28 +120,35 @@ void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally
   const core::VerdictConfig& verdict = node.online.verdict;
   const double m = verdict.tolerance.translation;
   const core::Vec3 offsets[5] = {{0, 0, 0}, {m, 0, 0}, {-m, 0, 0}, {0, m, 0}, {0, -m, 0}};
-  for (std::size_t i = 0; i < d.pairs.size(); i += stride) {
+  for (std::size_t i = 0; i < d.pairs.size(); ++i) {
     const core::ScanPair& p = d.pairs[i];
     ++t->pairs;
+    core::AlignmentVerdict gt;
+    bool ok[5];
     for (int c = 0; c < 5; ++c) {
       Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
       delta.translation() = offsets[c];
       const core::AlignmentVerdict v = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
                                                          p.T_a_b * delta, node.online, false)
                                            .verdict;
-      if (v.valid && v.aligned == (c == 0)) {
-        ++t->right[c];
-        continue;
-      }
-      t->wrong_flat += !v.relative.flat_axes.empty();
-      t->wrong << " pair " << i << " " << kCases[c] << " (p " << v.probability << ", "
-               << (v.valid ? "" : v.reason) << ");";
+      if (c == 0) gt = v;
+      ok[c] = v.valid && v.aligned == (c == 0);
+      t->right[c] += ok[c];
     }
+    const PairClass cls = classify(gt);
+    ++t->class_pairs[cls];
+    const int wrong = 5 - static_cast<int>(std::count(ok, ok + 5, true));
+    t->class_wrong[cls] += wrong;
+    if (wrong > 0) describe(i, d, gt, cls, ok, t->wrong);
   }
   std::cout << preset << " (" << verdictMethodName(verdict.method) << ") on " << d.name << ", "
             << t->pairs << " pairs, right:";
   for (int c = 0; c < 5; ++c) std::cout << " " << kCases[c] << " " << t->right[c];
-  std::cout << "; wrong with a flat axis " << t->wrong_flat << "\n";
+  std::cout << "\n  classes at ground truth (pairs / wrong verdicts):";
+  for (int k = 0; k < kClasses; ++k)
+    std::cout << " " << kClassNames[k] << " " << t->class_pairs[k] << " / " << t->class_wrong[k]
+              << ";";
+  std::cout << "\n" << t->wrong.str();
 }
 
 }  // namespace
@@ -156,7 +216,7 @@ TEST(PresetVerdicts, RadarOxfordOnTheOxfordPairs) {
   Tally t;
   judgeDataSet("radar_oxford", "oxford:" + coral_data, &t);
   EXPECT_EQ(t.pairs, 10);
-  EXPECT_TRUE(t.allRight()) << t.wrong.str();
+  EXPECT_TRUE(t.allRight()) << "(pairs listed above)";
 }
 
 TEST(PresetVerdicts, Lidar3dOnTheLibpointmatcherPair) {
@@ -164,16 +224,15 @@ TEST(PresetVerdicts, Lidar3dOnTheLibpointmatcherPair) {
   Tally t;
   judgeDataSet("lidar_3d", "cloudlist:" + coral_data + "/carCloudList.csv", &t);
   EXPECT_EQ(t.pairs, 1);
-  EXPECT_TRUE(t.allRight()) << t.wrong.str();
+  EXPECT_TRUE(t.allRight()) << "(pairs listed above)";
 }
 
 TEST(PresetVerdicts, Lidar3dOnTheLivoxKeyframes) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   Tally t;
-  const bool all = std::getenv("CORAL_TEST_ALL_PAIRS") != nullptr;
-  judgeDataSet("lidar_3d", "keyframes:" + coral_data, &t, all ? 1 : 16);
-  EXPECT_EQ(t.pairs, all ? 313 : 20);
-  EXPECT_TRUE(t.allRight()) << t.wrong.str();
+  judgeDataSet("lidar_3d", "keyframes:" + coral_data, &t);
+  EXPECT_EQ(t.pairs, 313);
+  EXPECT_TRUE(t.allRight()) << "(pairs listed above)";
 }
 
 TEST(PresetVerdicts, Lidar2dOnTheAcesRelations) {
@@ -181,16 +240,24 @@ TEST(PresetVerdicts, Lidar2dOnTheAcesRelations) {
   Tally t;
   judgeDataSet("lidar_2d", "carmen:" + coral_data + "/aces.clf.bz2", &t);
   EXPECT_EQ(t.pairs, 1279);
-  // Not all right: in about a quarter of the relations the robot is in a corridor, Q changes
-  // 10-100x less along x than along y (x is reported flat), and its minimum along x can lie
-  // a tolerance away from the relation (which a human could not verify along x either).
+  // Every clear pair (Q ordering holds, no flat axis at ground truth) is right in all five
+  // cases; measured 954 clear pairs.
+  EXPECT_EQ(t.class_wrong[kClear], 0) << "(pairs listed above)";
+  EXPECT_GE(t.class_pairs[kClear], 954);
+  EXPECT_EQ(t.class_pairs[kNoVerdict], 0);
+  // The exceptions, pair by pair with an ICP check of each relation in doc/verdict_pairs.md.
+  // Measured: Q order 42 pairs, 67 wrong verdicts (41 of the pairs along x, 39 of them with x
+  // flat; in 8 ICP also puts the relation >= 0.15 m off towards the offset CorAl prefers; 4
+  // are loop closures with overlap < 0.6); flat axis 283 pairs (x in all), 14 wrong verdicts:
+  // an offset along x whose Q is only 0.03-1.3 % of the pair's largest axis sensitivity above
+  // Q at the relation, within the relative check's margin (in 2 of them ICP puts the relation
+  // 0.21-0.26 m towards that offset).
+  EXPECT_LE(t.class_pairs[kQOrder], 42) << "(pairs listed above)";
+  EXPECT_LE(t.class_wrong[kFlat], 14) << "(pairs listed above)";
   // Measured: ground truth 1250, forward 1266, backward 1241, left 1279, right 1278.
-  EXPECT_GE(t.rate(0), 0.97) << t.wrong.str();
-  EXPECT_GE(t.rate(1), 0.98) << t.wrong.str();
-  EXPECT_GE(t.rate(2), 0.96) << t.wrong.str();
-  EXPECT_GE(t.rate(3), 0.995) << t.wrong.str();
-  EXPECT_GE(t.rate(4), 0.995) << t.wrong.str();
-  int wrong = 0;
-  for (int c = 0; c < 5; ++c) wrong += t.pairs - t.right[c];
-  EXPECT_GE(t.wrong_flat, 0.9 * wrong) << "wrong verdicts should mostly come with a flat axis";
+  EXPECT_GE(t.right[0], 1250) << "(pairs listed above)";
+  EXPECT_GE(t.right[1], 1266) << "(pairs listed above)";
+  EXPECT_GE(t.right[2], 1241) << "(pairs listed above)";
+  EXPECT_GE(t.right[3], 1279) << "(pairs listed above)";
+  EXPECT_GE(t.right[4], 1278) << "(pairs listed above)";
 }

@@ -33,10 +33,13 @@ class CoralPair {
   // frame). The same result as computeCoral(a, transformScan(b', T_a_b)) for b' = b after
   // hygiene and voxel filter in its own frame, up to the summation order of the moments
   // (and b's query subset, drawn in b's frame). With `probe`, also the aggregate over the
-  // probe queries of the same evaluation.
-  CoralResult evaluate(const Eigen::Isometry3d& T_a_b, CoralResult* probe = nullptr) const;
+  // probe queries of the same evaluation. per_point false: no per-point entropies whatever
+  // cfg.per_point says (extra poses of a pair whose verdict publishes them).
+  CoralResult evaluate(const Eigen::Isometry3d& T_a_b, CoralResult* probe = nullptr,
+                       bool per_point = true) const;
   // The aggregate over the probe queries only (no per-point entropies).
   CoralResult evaluateProbe(const Eigen::Isometry3d& T_a_b) const;
+  const CoralConfig& config() const;
 
  private:
   struct Impl;

@@ -65,12 +65,10 @@ struct RelativeCheckResult {
 };
 
 // CorAl of the pair with b moved by T_a_b * offset.delta, for each offset, every query (no
-// per-point output; one CoralPair). a in the common frame, b in its own sensor frame. Online
-// self-calibration keeps (H_joint, H_sep) of each as a misaligned sample.
-std::vector<CoralResult> neighbourResults(const Scan& a, const Scan& b,
-                                          const Eigen::Isometry3d& T_a_b,
-                                          const std::vector<ToleranceOffset>& offsets,
-                                          const CoralConfig& cfg);
+// per-point output). Online self-calibration keeps (H_joint, H_sep) of each as a misaligned
+// sample, on the pair its verdict prepared.
+std::vector<CoralResult> neighbourResults(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                          const std::vector<ToleranceOffset>& offsets);
 
 // Q (probe queries) of the pair with b moved by T_a_b * offset.delta, for each offset (NaN
 // when CorAl has no valid result there).

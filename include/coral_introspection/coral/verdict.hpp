@@ -4,11 +4,13 @@
 // (online introspection, check_alignment, the tests on real pairs).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/relative_check.hpp"
 #include "coral_introspection/coral/tolerance.hpp"
 
@@ -57,6 +59,14 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
 // Preconditions: coral.validate() and cfg.validate() are empty. Never throws.
 AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b,
                                 const CoralConfig& coral, const VerdictConfig& cfg);
+
+// The same in two steps, for callers that evaluate the pair at more poses afterwards
+// (online self-calibration): the CoralPair judgeAlignment builds for these configs (the
+// relative check's probe sub-sample only when cfg.method uses it), and the verdict on it.
+std::unique_ptr<CoralPair> prepareVerdictPair(const Scan& a, const Scan& b,
+                                              const CoralConfig& coral, const VerdictConfig& cfg);
+AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                const VerdictConfig& cfg);
 
 // The classifier as the nodelet's private parameters ~classifier/method, beta0, beta1, beta2,
 // threshold (`<rosparam file=.../>` inside the nodelet, coral.launch classifier:=, coral_check

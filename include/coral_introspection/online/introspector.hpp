@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,6 +63,9 @@ struct PairJudgement {
   core::AlignmentVerdict verdict;
   std::string reason;   // why there is no verdict (empty when verdict.valid)
   core::Scan ref, cur;  // keep_scans: the pair in the reference sensor frame (ref.origin = 0)
+  // The pair as the verdict prepared it (filtered clouds, grids, own-cloud moments): more
+  // poses of it cost only the other-cloud searches (online self-calibration).
+  std::shared_ptr<const core::CoralPair> prepared;
 };
 
 // CorAl of `cur` moved into `ref`'s sensor frame by T_ref_cur, then the verdict at the
@@ -126,8 +130,8 @@ class Introspector {
   void checkDoppler(const ScanInput& scan, Report* report);
   void judge(Held& cur, const ProcessOptions& options, Report* report);
 
-  struct CalibrationJob {  // a selected pair, as judgePair saw it
-    core::Scan ref, cur;   // ref in its sensor frame (origin 0), cur in its own
+  struct CalibrationJob {  // a selected pair, as judgePair prepared it
+    std::shared_ptr<const core::CoralPair> pair;
     Eigen::Isometry3d T_ref_cur = Eigen::Isometry3d::Identity();
     core::CoralResult at_pose;
   };

@@ -89,12 +89,11 @@ class SelfCalibration {
 
   // Once per judged pair: true when this pair gets the extra evaluations (fraction_of_pairs).
   bool select();
-  // The extra evaluations of a selected pair: ref in the common (ref sensor) frame, cur in
-  // its own sensor frame, at_pose = CorAl at T_ref_cur. Accepts or not, then refits.
-  // Returns true when the pair was accepted.
-  bool addPair(const core::Scan& ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
-               const core::CoralResult& at_pose, const core::CoralConfig& coral,
-               const core::VerdictConfig& verdict);
+  // The extra evaluations of a selected pair (prepared by its verdict: ref in the common
+  // frame, cur in its own sensor frame), at_pose = CorAl at T_ref_cur. Accepts or not, then
+  // refits. Returns true when the pair was accepted.
+  bool addPair(const core::CoralPair& pair, const Eigen::Isometry3d& T_ref_cur,
+               const core::CoralResult& at_pose, const core::VerdictConfig& verdict);
   // The samples of one accepted pair (addPair's second half, also for tests); refits.
   void addAcceptedPair(const CalibrationSample& aligned,
                        const std::vector<CalibrationSample>& misaligned);
