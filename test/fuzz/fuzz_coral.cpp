@@ -247,7 +247,11 @@ void fuzzPair(FuzzInput& in, uint8_t mode, const Scan& a, const Scan& b, const C
   if (mode == 1) {
     checkRelative(relativeCheck(pair, T1, probe, cfg.dimension, tol, rc), probe, cfg.dimension, rc);
   } else {
-    checkResult(pair.evaluate(T2), cfg, finite, total);
+    // Without per-point output when asked (what self-calibration's neighbour poses use).
+    const bool per_point = probe_choice & 0x40;
+    CoralConfig c2 = cfg;
+    c2.per_point = cfg.per_point && per_point;
+    checkResult(pair.evaluate(T2, nullptr, per_point), c2, finite, total);
   }
 }
 
