@@ -8,13 +8,16 @@
 // (+8 % over a 30-minute Oxford soak, doc/testing.md). This happens in any nodelet manager,
 // so it is handled in code rather than with MALLOC_MMAP_THRESHOLD_ in a launch file (which
 // maps and faults in every image afresh: ~800 page faults and ~10 ms of kernel time per
-// Oxford scan).
+// Oxford scan). It releases part of it only (see releaseFreeHeap).
 #pragma once
 
 namespace coral_introspection {
 namespace ros_adapters {
 
-// Returns the whole free pages of every malloc arena to the system (glibc malloc_trim(0)).
+// Returns the whole free pages of every malloc arena's free lists and the top of the main
+// heap to the system (glibc malloc_trim(0)). Not the free top chunk of the other threads'
+// arenas: glibc trims those only at a free in that arena (up to about 2 images stay per
+// arena; doc/testing.md, soak run 3).
 // Returns false where that is not available (non-glibc C library): then it does nothing.
 // Cost: a walk over the free lists of all arenas, then page faults when the released pages
 // are used again; call it rarely (HeapReleaseTimer), never per allocation.

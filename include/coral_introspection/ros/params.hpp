@@ -30,9 +30,9 @@ struct NodeConfig {
   // [s] testing only: the worker sleeps this long after each judged pair (a deliberately
   // slow pair for the responsiveness tests). 0 in any real use.
   double testing_pair_delay = 0.0;
-  // [s] after a scan, the worker returns the allocator's free memory to the system
-  // (ros_adapters::releaseFreeHeap) at most once per this interval; 0 = never. Keeps the
-  // manager's RSS flat when large messages (polar images) pile up now and then.
+  // [s] after a scan, the worker returns the allocator's free pages to the system
+  // (ros_adapters::releaseFreeHeap) at most once per this interval; 0 = never. Keeps image
+  // buffers freed after a pile-up from staying resident (doc/testing.md, soak run 3).
   double heap_release_interval = 10.0;
   // pairing/, coral/, classifier/, motion_compensation/, doppler/: the Introspector's config.
   // Polar input requires coral/dimension 2 (RIP features are planar: 3D covariances of
