@@ -7,6 +7,7 @@
 
 #include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
+#include "support/yard_pair.hpp"
 
 using namespace coral_introspection::core;
 
@@ -114,35 +115,13 @@ TEST(RelativeCheck, DecisionOnAKnownBowl) {
   EXPECT_FALSE(r.misaligned);
 }
 
-namespace {
-struct Pair {
-  Scan a, b;  // a in the world frame (= a's frame), b in its own sensor frame
-  Eigen::Isometry3d T_a_b;
-};
-Pair yardPair(int rings) {
-  std::mt19937 rng(7);
-  const SyntheticScene scene = SyntheticScene::structuredYard();
-  LidarModel lidar;
-  lidar.rings = rings;
-  if (rings == 1) lidar.v_min_deg = lidar.v_max_deg = 0.0;
-  Pair p;
-  p.T_a_b = se2(0.6, 0.2, 0.04);
-  p.a.points = simulateScan(scene, Eigen::Isometry3d::Identity(), lidar, rng);
-  p.b.points = simulateScan(scene, p.T_a_b, lidar, rng);
-  return p;
-}
-CoralConfig planarConfig() {
-  CoralConfig c;
-  c.dimension = 2;
-  c.radius = 0.5;
-  c.epsilon = 1e-4;
-  return c;
-}
-}  // namespace
+using coral_introspection::test::planarYardCoral;
+using coral_introspection::test::yardPair;
+using Pair = coral_introspection::test::YardPair;
 
 TEST(RelativeCheck, PlanarScanPairAtTruthAndOneToleranceOff) {
   const Pair p = yardPair(1);
-  const CoralConfig coral = planarConfig();
+  const CoralConfig coral = planarYardCoral();
   VerdictConfig v;
   v.method = VerdictMethod::kRelative;
   v.tolerance = ToleranceConfig::lidar2d();
@@ -164,7 +143,7 @@ TEST(RelativeCheck, PlanarScanPairAtTruthAndOneToleranceOff) {
 
 TEST(Verdict, MethodsCombineClassifierAndRelativeCheck) {
   const Pair p = yardPair(1);
-  const CoralConfig coral = planarConfig();
+  const CoralConfig coral = planarYardCoral();
   VerdictConfig v;
   v.tolerance = ToleranceConfig::lidar2d();
   v.classifier.beta0 = 100.0;  // a classifier that calls everything aligned

@@ -12,6 +12,7 @@
 #include "coral_introspection/eval/synthetic.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/online/self_calibration.hpp"
+#include "support/yard_pair.hpp"
 
 using namespace coral_introspection;
 using online::CalibrationSample;
@@ -169,34 +170,11 @@ TEST(SelfCalibration, MemoryStaysBoundedDroppingTheOldestPairs) {
   EXPECT_EQ(cal.status().pairs_accepted, 100u);
 }
 
-namespace {
-struct YardPair {
-  core::Scan a, b;  // a in its frame (origin 0), b in its own sensor frame
-  Eigen::Isometry3d T_a_b = core::se2(0.6, 0.2, 0.04);
-};
-YardPair planarPair(unsigned seed, const Eigen::Isometry3d& T_world_a) {
-  std::mt19937 rng(seed);
-  core::LidarModel lidar;
-  lidar.rings = 1;
-  lidar.v_min_deg = lidar.v_max_deg = 0.0;
-  YardPair p;
-  const auto scene = core::SyntheticScene::structuredYard();
-  p.a.points = core::simulateScan(scene, T_world_a, lidar, rng);
-  p.b.points = core::simulateScan(scene, T_world_a * p.T_a_b, lidar, rng);
-  return p;
-}
-core::CoralConfig planarCoral() {
-  core::CoralConfig c;
-  c.dimension = 2;
-  c.radius = 0.5;
-  c.epsilon = 1e-4;
-  return c;
-}
-}  // namespace
+using coral_introspection::test::YardPair;
 
 TEST(SelfCalibration, RelativeCheckAcceptsThePairAtTruthOnly) {
-  const YardPair p = planarPair(7, Eigen::Isometry3d::Identity());
-  const core::CoralConfig coral = planarCoral();
+  const YardPair p = test::yardPair(1, 7, Eigen::Isometry3d::Identity());
+  const core::CoralConfig coral = test::planarYardCoral();
   core::VerdictConfig v;
   v.tolerance = core::ToleranceConfig::lidar2d();
   SelfCalibration cal;
@@ -221,7 +199,7 @@ TEST(SelfCalibration, RelativeCheckAcceptsThePairAtTruthOnly) {
 // refit is in use, never before.
 TEST(SelfCalibration, IntrospectorCorrectsAWrongClassifierOnline) {
   online::IntrospectorConfig cfg;
-  cfg.coral = planarCoral();
+  cfg.coral = test::planarYardCoral();
   cfg.verdict.tolerance = core::ToleranceConfig::lidar2d();
   cfg.verdict.classifier = alwaysAligned();
   cfg.calibration.enabled = true;

@@ -11,9 +11,12 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <deque>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <random>
 
@@ -142,6 +145,40 @@ class Collector {
   ros::Subscriber sub_;
   std::mutex mutex_;
   std::deque<M> msgs_;
+};
+
+// AlignmentQuality messages by the later scan's stamp (stamp_b): send a scan, then wait for
+// its own verdict.
+class VerdictsByStamp {
+ public:
+  VerdictsByStamp(ros::NodeHandle& nh, const std::string& topic) {
+    sub_ = nh.subscribe<AlignmentQuality>(topic, 50, [this](const AlignmentQuality::ConstPtr& m) {
+      std::lock_guard<std::mutex> l(mutex_);
+      by_stamp_[m->stamp_b.toNSec()] = *m;
+      cv_.notify_all();
+    });
+  }
+  // Waits (wall time) for the verdict of the scan stamped `stamp`.
+  bool waitFor(const ros::Time& stamp, double timeout, AlignmentQuality* out) {
+    std::unique_lock<std::mutex> l(mutex_);
+    const uint64_t key = stamp.toNSec();
+    cv_.wait_for(l, std::chrono::duration<double>(timeout),
+                 [&] { return by_stamp_.count(key) > 0; });
+    if (!by_stamp_.count(key)) return false;
+    *out = by_stamp_[key];
+    return true;
+  }
+  void clear() {
+    std::lock_guard<std::mutex> l(mutex_);
+    by_stamp_.clear();
+  }
+  const ros::Subscriber& sub() const { return sub_; }
+
+ private:
+  ros::Subscriber sub_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::map<uint64_t, AlignmentQuality> by_stamp_;
 };
 
 inline bool waitForSubscriber(const ros::Publisher& pub, double timeout = 15.0) {

@@ -16,7 +16,6 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -30,6 +29,7 @@
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/params.hpp"
 #include "coral_introspection/ros_eval/yaml_params.hpp"
+#include "coral_rostest_utils.hpp"
 #include "support/test_data.hpp"
 
 namespace core = coral_introspection::core;
@@ -58,7 +58,6 @@ class Replayer {
  public:
   Replayer() {
     pub_ = nh_.advertise<sensor_msgs::PointCloud2>("/livox/keyframes", 5);
-    sub_ = nh_.subscribe("alignment", 50, &Replayer::onAlignment, this);
     diag_ = nh_.subscribe("/diagnostics", 10, &Replayer::onDiagnostics, this);
   }
   // The latest value of a key of the nodelet's diagnostics ("" before the first report).
@@ -66,7 +65,9 @@ class Replayer {
     std::lock_guard<std::mutex> l(mu_);
     return diagnostics_.count(key) ? diagnostics_[key] : "";
   }
-  bool connected() const { return pub_.getNumSubscribers() > 0 && sub_.getNumPublishers() > 0; }
+  bool connected() const {
+    return pub_.getNumSubscribers() > 0 && verdicts_.sub().getNumPublishers() > 0;
+  }
 
   // TF odom->livox at the stamp, then the cloud; waits for its AlignmentQuality.
   bool send(const core::Points& points, const Eigen::Isometry3d& T_odom_livox,
@@ -82,20 +83,10 @@ class Replayer {
     h.stamp = stamp;
     h.frame_id = "livox";
     pub_.publish(ra::pointsToCloud(points, h));
-    std::unique_lock<std::mutex> l(mu_);
-    const uint64_t key = stamp.toNSec();
-    cv_.wait_for(l, std::chrono::seconds(30), [&] { return results_.count(key) > 0; });
-    if (!results_.count(key)) return false;
-    *out = results_[key];
-    return true;
+    return verdicts_.waitFor(stamp, 30.0, out);
   }
 
  private:
-  void onAlignment(const AlignmentQuality::ConstPtr& m) {
-    std::lock_guard<std::mutex> l(mu_);
-    results_[m->stamp_b.toNSec()] = *m;
-    cv_.notify_all();
-  }
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
     std::lock_guard<std::mutex> l(mu_);
     for (const auto& st : m->status)
@@ -104,12 +95,11 @@ class Replayer {
   }
   ros::NodeHandle nh_;
   ros::Publisher pub_;
-  ros::Subscriber sub_, diag_;
+  coral_test::VerdictsByStamp verdicts_{nh_, "alignment"};
+  ros::Subscriber diag_;
   std::map<std::string, std::string> diagnostics_;
   tf2_ros::TransformBroadcaster tf_;
   std::mutex mu_;
-  std::condition_variable cv_;
-  std::map<uint64_t, AlignmentQuality> results_;
 };
 
 TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {

@@ -13,7 +13,6 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <unistd.h>
-#include <condition_variable>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -24,6 +23,7 @@
 #include "coral_introspection/AlignmentQuality.h"
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
+#include "coral_rostest_utils.hpp"
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
@@ -73,9 +73,10 @@ class Replayer {
  public:
   Replayer() {
     pub_ = nh_.advertise<sensor_msgs::Image>("/radar/polar", 20);  // the bag topic
-    sub_ = nh_.subscribe("alignment", 50, &Replayer::onAlignment, this);
   }
-  bool connected() const { return pub_.getNumSubscribers() > 0 && sub_.getNumPublishers() > 0; }
+  bool connected() const {
+    return pub_.getNumSubscribers() > 0 && verdicts_.sub().getNumPublishers() > 0;
+  }
 
   // Publishes the TF of every scan (shifted by time_offset, poses by the injected error),
   // then the images one by one, each after the verdict of the previous one arrived.
@@ -83,10 +84,7 @@ class Replayer {
   std::map<int, AlignmentQuality> replay(const std::vector<ReplayScan>& scans,
                                          const std::vector<Eigen::Vector3d>& offsets,
                                          const ros::Duration& time_offset) {
-    {
-      std::lock_guard<std::mutex> l(mu_);
-      results_.clear();
-    }
+    verdicts_.clear();
     std::vector<ros::Time> stamps;
     for (std::size_t i = 0; i < scans.size(); ++i) {
       stamps.push_back(scans[i].image.header.stamp + time_offset);
@@ -107,27 +105,17 @@ class Replayer {
         ros::WallDuration(0.3).sleep();  // first scan only becomes the reference
         continue;
       }
-      std::unique_lock<std::mutex> l(mu_);
-      const uint64_t key = stamps[i].toNSec();
-      cv_.wait_for(l, std::chrono::seconds(10), [&] { return results_.count(key) > 0; });
-      if (results_.count(key)) out[static_cast<int>(i)] = results_[key];
+      AlignmentQuality v;
+      if (verdicts_.waitFor(stamps[i], 10.0, &v)) out[static_cast<int>(i)] = v;
     }
     return out;
   }
 
  private:
-  void onAlignment(const AlignmentQuality::ConstPtr& m) {
-    std::lock_guard<std::mutex> l(mu_);
-    results_[m->stamp_b.toNSec()] = *m;
-    cv_.notify_all();
-  }
   ros::NodeHandle nh_;
   ros::Publisher pub_;
-  ros::Subscriber sub_;
+  coral_test::VerdictsByStamp verdicts_{nh_, "alignment"};
   tf2_ros::TransformBroadcaster tf_;
-  std::mutex mu_;
-  std::condition_variable cv_;
-  std::map<uint64_t, AlignmentQuality> results_;
 };
 
 void printVerdicts(const char* run, const std::map<int, AlignmentQuality>& v) {
