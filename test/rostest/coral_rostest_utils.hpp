@@ -181,6 +181,13 @@ class VerdictsByStamp {
   std::map<uint64_t, AlignmentQuality> by_stamp_;
 };
 
+// Polls `ok` (wall time) until it holds or the timeout passes; returns its last value.
+inline bool waitUntil(const std::function<bool()>& ok, double timeout) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (!ok() && ros::ok() && ros::WallTime::now() < end) ros::WallDuration(0.1).sleep();
+  return ok();
+}
+
 inline bool waitForSubscriber(const ros::Publisher& pub, double timeout = 15.0) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout);
   while (ros::ok() && ros::WallTime::now() < end) {

@@ -115,10 +115,8 @@ TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {
   Replayer replayer;
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  const ros::WallTime t0 = ros::WallTime::now();
-  while (!replayer.connected() && (ros::WallTime::now() - t0).toSec() < 30.0)
-    ros::WallDuration(0.1).sleep();
-  ASSERT_TRUE(replayer.connected()) << "CoralNodelet did not connect";
+  ASSERT_TRUE(coral_test::waitUntil([&] { return replayer.connected(); }, 30.0))
+      << "CoralNodelet did not connect";
 
   // Odometry with jumps: T'_i = C_i T_i, C_i = C_{i-1} T_i Delta_i T_i^-1 at a step, so the
   // straddling pair's relative pose is off by Delta_i (in i's frame) and every other is exact.

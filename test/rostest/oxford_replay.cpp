@@ -146,10 +146,8 @@ TEST(OxfordReplay, GroundTruthAlignedAndStepErrorsFlagged) {
   Replayer replayer;
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  const ros::WallTime t0 = ros::WallTime::now();
-  while (!replayer.connected() && (ros::WallTime::now() - t0).toSec() < 30.0)
-    ros::WallDuration(0.1).sleep();
-  ASSERT_TRUE(replayer.connected()) << "CoralNodelet did not connect to /radar/polar and alignment";
+  ASSERT_TRUE(coral_test::waitUntil([&] { return replayer.connected(); }, 30.0))
+      << "CoralNodelet did not connect to /radar/polar and alignment";
 
   // 2. Replay with ground-truth TF: all 10 pairs aligned.
   const std::vector<Eigen::Vector3d> zero(scans.size(), Eigen::Vector3d::Zero());
