@@ -59,6 +59,13 @@ ros::Subscriber diagnosticsOf(ros::NodeHandle& nh, const std::string& name, Coll
       });
 }
 
+ros::Subscriber odometryOf(ros::NodeHandle& nh, const std::string& topic, Collector* c) {
+  return nh.subscribe<nav_msgs::Odometry>(topic, 1000, [c](const nav_msgs::OdometryConstPtr& m) {
+    std::lock_guard<std::mutex> l(c->m);
+    c->odom.push_back(*m);
+  });
+}
+
 }  // namespace
 
 TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
@@ -67,11 +74,7 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   bag.open(coral_data + "/ti_mmwave_rospkg_demo.bag", rosbag::bagmode::Read);
   ros::NodeHandle nh;
   Collector c;
-  ros::Subscriber so = nh.subscribe<nav_msgs::Odometry>("/ti/odometry", 1000,
-                                                        [&c](const nav_msgs::OdometryConstPtr& m) {
-                                                          std::lock_guard<std::mutex> l(c.m);
-                                                          c.odom.push_back(*m);
-                                                        });
+  ros::Subscriber so = odometryOf(nh, "/ti/odometry", &c);
   ros::Subscriber sd = diagnosticsOf(nh, "rio_ti", &c);
   tf2_ros::Buffer tf(ros::Duration(100.0));
   tf2_ros::TransformListener listener(tf);
@@ -166,8 +169,7 @@ sensor_msgs::Imu imuAt(double t) {
 
 // Static reflectors in front of a standing radar (zero Doppler); with_velocity false drops the
 // radial-velocity field.
-sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity,
-                                const std::string& frame = "radar") {
+sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity, const std::string& frame) {
   sensor_msgs::PointCloud2 c;
   c.header.stamp = ros::Time(t);
   c.header.frame_id = frame;
@@ -192,16 +194,24 @@ sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity,
   return c;
 }
 
+// Standing data over [t0, t1): IMU at 200 Hz, a radar scan of `points` reflectors at 10 Hz
+// (2 ms before its IMU sample), paced at 10x real time.
+void playStanding(const ros::Publisher& imu, const ros::Publisher& radar, double t0, double t1,
+                  bool with_velocity, int points, const std::string& radar_frame) {
+  for (double t = t0; t < t1; t += 0.005) {
+    imu.publish(imuAt(t));
+    if (std::lround((t - t0) / 0.005) % 20 == 19)
+      radar.publish(scanAt(t - 0.002, points, with_velocity, radar_frame));
+    ros::WallDuration(0.0005).sleep();
+  }
+}
+
 }  // namespace
 
 TEST(RioNodelet, BadInputsGiveDiagnosticsAndRecovery) {
   ros::NodeHandle nh;
   Collector c;
-  ros::Subscriber so = nh.subscribe<nav_msgs::Odometry>("/bad/odometry", 1000,
-                                                        [&c](const nav_msgs::OdometryConstPtr& m) {
-                                                          std::lock_guard<std::mutex> l(c.m);
-                                                          c.odom.push_back(*m);
-                                                        });
+  ros::Subscriber so = odometryOf(nh, "/bad/odometry", &c);
   ros::Subscriber sd = diagnosticsOf(nh, "rio_bad", &c);
   ros::Publisher pi = nh.advertise<sensor_msgs::Imu>("/bad/imu", 5000);
   ros::Publisher pr = nh.advertise<sensor_msgs::PointCloud2>("/bad/radar", 100);
@@ -209,14 +219,8 @@ TEST(RioNodelet, BadInputsGiveDiagnosticsAndRecovery) {
   spinner.start();
   waitFor(nh, pi);
   waitFor(nh, pr);
-  // Standing data at 200 Hz IMU / 10 Hz radar from t0; `skip` leaves an IMU gap.
   auto play = [&](double t0, double t1, bool with_velocity, int points) {
-    for (double t = t0; t < t1; t += 0.005) {
-      pi.publish(imuAt(t));
-      const long k = std::lround((t - t0) / 0.005);
-      if (k % 20 == 19) pr.publish(scanAt(t - 0.002, points, with_velocity));
-      ros::WallDuration(0.0005).sleep();
-    }
+    playStanding(pi, pr, t0, t1, with_velocity, points, "radar");
   };
   play(1000.0, 1003.0, true, 30);  // static start: initialises and tracks
   ros::WallDuration(0.5).sleep();
@@ -252,11 +256,7 @@ TEST(RioNodelet, ExtrinsicsFromTfWaitForTheTransformThenUseIt) {
   ros::NodeHandle nh;
   Collector c;
   std::vector<sensor_msgs::PointCloud2> landmarks;
-  ros::Subscriber so = nh.subscribe<nav_msgs::Odometry>("/late_tf/odometry", 1000,
-                                                        [&c](const nav_msgs::OdometryConstPtr& m) {
-                                                          std::lock_guard<std::mutex> l(c.m);
-                                                          c.odom.push_back(*m);
-                                                        });
+  ros::Subscriber so = odometryOf(nh, "/late_tf/odometry", &c);
   ros::Subscriber sl = nh.subscribe<sensor_msgs::PointCloud2>(
       "/late_tf/landmarks", 100, [&c, &landmarks](const sensor_msgs::PointCloud2ConstPtr& m) {
         std::lock_guard<std::mutex> l(c.m);
@@ -269,14 +269,7 @@ TEST(RioNodelet, ExtrinsicsFromTfWaitForTheTransformThenUseIt) {
   spinner.start();
   waitFor(nh, pi);
   waitFor(nh, pr);
-  auto play = [&](double t0, double t1) {
-    for (double t = t0; t < t1; t += 0.005) {
-      pi.publish(imuAt(t));
-      if (std::lround((t - t0) / 0.005) % 20 == 19)
-        pr.publish(scanAt(t - 0.002, 30, true, "late_radar"));
-      ros::WallDuration(0.0005).sleep();
-    }
-  };
+  auto play = [&](double t0, double t1) { playStanding(pi, pr, t0, t1, true, 30, "late_radar"); };
   play(2000.0, 2002.0);  // standing, no TF yet
   ros::WallDuration(2.5).sleep();
   {
