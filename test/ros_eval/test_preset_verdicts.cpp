@@ -6,10 +6,14 @@
 // 24-35 s). Where it does not hold (ACES corridors), each pair is classed by what CorAl
 // itself shows at ground truth (doc/verdict_pairs.md): the test asserts that every pair of
 // the clear class is right and bounds the documented exceptions.
+// CORAL_VERDICT_PAIR_STRIDE=N (scripts/test_sanitizers.sh) judges every N-th pair of each
+// data set only: the sanitizer build is ~55x slower; the counts measured on all pairs are
+// then replaced by what must hold for any subset (every pair right, every clear pair right).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iomanip>
 #include <sstream>
 
@@ -25,6 +29,23 @@ using namespace coral_introspection;
 namespace {
 
 const char* const kCases[5] = {"ground truth", "forward", "backward", "left", "right"};
+
+// Every stride()-th pair is judged (1 = all; CORAL_VERDICT_PAIR_STRIDE, a positive integer).
+std::size_t stride() {
+  const char* env = std::getenv("CORAL_VERDICT_PAIR_STRIDE");
+  if (env == nullptr || *env == '\0') return 1;
+  char* end = nullptr;
+  const long v = std::strtol(env, &end, 10);
+  if (*end != '\0' || v < 1) {
+    ADD_FAILURE() << "CORAL_VERDICT_PAIR_STRIDE=" << env << " is not a positive integer";
+    return 1;
+  }
+  return static_cast<std::size_t>(v);
+}
+// Pairs judged of a data set of n pairs.
+int judged(int n) {
+  return static_cast<int>((static_cast<std::size_t>(n) + stride() - 1) / stride());
+}
 
 // What CorAl shows at ground truth, from the relative check's probes there (Q one tolerance
 // away along each axis, which include the four offsets judged here):
@@ -120,7 +141,7 @@ void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally
   const core::VerdictConfig& verdict = node.online.verdict;
   const double m = verdict.tolerance.translation;
   const core::Vec3 offsets[5] = {{0, 0, 0}, {m, 0, 0}, {-m, 0, 0}, {0, m, 0}, {0, -m, 0}};
-  for (std::size_t i = 0; i < d.pairs.size(); ++i) {
+  for (std::size_t i = 0; i < d.pairs.size(); i += stride()) {
     const core::ScanPair& p = d.pairs[i];
     ++t->pairs;
     core::AlignmentVerdict gt;
@@ -215,7 +236,7 @@ TEST(PresetVerdicts, RadarOxfordOnTheOxfordPairs) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   Tally t;
   judgeDataSet("radar_oxford", "oxford:" + coral_data, &t);
-  EXPECT_EQ(t.pairs, 10);
+  EXPECT_EQ(t.pairs, judged(10));
   EXPECT_TRUE(t.allRight()) << "(pairs listed above)";
 }
 
@@ -223,7 +244,7 @@ TEST(PresetVerdicts, Lidar3dOnTheLibpointmatcherPair) {
   CORAL_REQUIRE_DATA("libpointmatcher_car_cloud");
   Tally t;
   judgeDataSet("lidar_3d", "cloudlist:" + coral_data + "/carCloudList.csv", &t);
-  EXPECT_EQ(t.pairs, 1);
+  EXPECT_EQ(t.pairs, judged(1));
   EXPECT_TRUE(t.allRight()) << "(pairs listed above)";
 }
 
@@ -231,7 +252,7 @@ TEST(PresetVerdicts, Lidar3dOnTheLivoxKeyframes) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   Tally t;
   judgeDataSet("lidar_3d", "keyframes:" + coral_data, &t);
-  EXPECT_EQ(t.pairs, 313);
+  EXPECT_EQ(t.pairs, judged(313));
   EXPECT_TRUE(t.allRight()) << "(pairs listed above)";
 }
 
@@ -239,12 +260,16 @@ TEST(PresetVerdicts, Lidar2dOnTheAcesRelations) {
   CORAL_REQUIRE_DATA("radish_aces");
   Tally t;
   judgeDataSet("lidar_2d", "carmen:" + coral_data + "/aces.clf.bz2", &t);
-  EXPECT_EQ(t.pairs, 1279);
+  EXPECT_EQ(t.pairs, judged(1279));
   // Every clear pair (Q ordering holds, no flat axis at ground truth) is right in all five
   // cases; measured 954 clear pairs.
   EXPECT_EQ(t.class_wrong[kClear], 0) << "(pairs listed above)";
-  EXPECT_GE(t.class_pairs[kClear], 954);
   EXPECT_EQ(t.class_pairs[kNoVerdict], 0);
+  if (stride() > 1) {  // a subset: the counts below were measured on all pairs
+    EXPECT_GT(t.class_pairs[kClear], t.pairs / 2);
+    return;
+  }
+  EXPECT_GE(t.class_pairs[kClear], 954);
   // The exceptions, pair by pair with an ICP check of each relation in doc/verdict_pairs.md.
   // Measured: Q order 42 pairs, 67 wrong verdicts (41 of the pairs along x, 39 of them with x
   // flat; in 8 ICP also puts the relation >= 0.15 m off towards the offset CorAl prefers; 4
