@@ -30,6 +30,10 @@ function(coral_add_library name dir)
 endfunction()
 
 coral_add_library(coral_introspection_coral coral DEPS Threads::Threads)
+# The moment kernel's vector and scalar paths must round |p - q|^2 alike (no fused
+# multiply-add where the code does not ask for one): both then count the same neighbours.
+set_source_files_properties(${PROJECT_SOURCE_DIR}/src/coral/moments_kernel.cpp PROPERTIES
+                            COMPILE_OPTIONS -ffp-contract=off)
 # Third-party headers as SYSTEM so the warning flags report only our own code.
 target_include_directories(coral_introspection_coral SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
 coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral ${OpenCV_LIBS})

@@ -10,6 +10,7 @@
 
 #include "coral_detail.hpp"
 #include "coral_introspection/coral/entropy.hpp"
+#include "coral_introspection/coral/moments_kernel.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
 #include "coral_introspection/coral/parallel.hpp"
 #include "coral_introspection/coral/point_filter.hpp"
@@ -77,7 +78,6 @@ double dynamicRadius(const CoralConfig& cfg, double distance) {
 
 namespace {
 
-using detail::addWithin;
 using detail::pointRadius;
 using detail::setPoint;
 
@@ -105,13 +105,16 @@ std::size_t scoreAll(const NeighbourGrid& grid, std::size_t num_a, const Vec3& o
                      const Vec3& origin_b, const CoralConfig& cfg, std::vector<PointEntropy>& out) {
   std::atomic<std::size_t> tests{0};
   parallelChunks(grid.numCells(), cfg.threads, [&](std::size_t c0, std::size_t c1) {
-    std::vector<NeighbourGrid::Range> ranges;
+    NeighbourGrid::Span spans[2][NeighbourGrid::kBlockCells];  // the block's points of a, b
+    int num_spans[2];
     std::size_t chunk_tests = 0;
     for (std::size_t c = c0; c < c1; ++c) {
-      grid.neighbourRanges(c, 1, &ranges);  // every radius <= cell size
+      // Every radius <= cell size: the 3^N block around the cell holds every neighbour.
+      grid.neighbourSpans(c, spans[0], &num_spans[0], spans[1], &num_spans[1]);
       const NeighbourGrid::Range pts = grid.cellPoints(c);
       std::size_t candidates = 0;  // each point of the cell tests all of them
-      for (const NeighbourGrid::Range& rg : ranges) candidates += rg.end - rg.begin;
+      for (int s = 0; s < 2; ++s)
+        for (int k = 0; k < num_spans[s]; ++k) candidates += spans[s][k].end - spans[s][k].begin;
       chunk_tests += candidates * static_cast<std::size_t>(pts.end - pts.begin);
       const uint32_t* idx = grid.cellIndices(c);
       for (const Vec3* p = pts.begin; p != pts.end; ++p, ++idx) {
@@ -121,10 +124,9 @@ std::size_t scoreAll(const NeighbourGrid& grid, std::size_t num_a, const Vec3& o
         const double r2 = radius * radius;
         setPoint(pe, *p, in_a, radius);
         MomentsN<Dim> m_own, m_other;
-        for (const NeighbourGrid::Range& rg : ranges) {
-          addWithin(in_a ? rg.begin : rg.mid, in_a ? rg.mid : rg.end, *p, r2, m_own);
-          addWithin(in_a ? rg.mid : rg.begin, in_a ? rg.end : rg.mid, *p, r2, m_other);
-        }
+        const int own = in_a ? 0 : 1, other = 1 - own;
+        addWithin<Dim>(grid, spans[own], num_spans[own], *p, r2, &m_own);
+        addWithin<Dim>(grid, spans[other], num_spans[other], *p, r2, &m_other);
         scorePoint(m_own, m_other, cfg, &pe);
       }
     }
@@ -148,14 +150,11 @@ std::size_t scoreQueries(const NeighbourGrid& grid, const std::vector<uint32_t>&
       const Vec3& p = pts[queries[k]];
       const bool in_a = idx[queries[k]] < num_a;
       const double radius = pointRadius<Dim>(cfg, p, in_a ? origin_a : origin_b);
-      const double r2 = radius * radius;
       setPoint(out[k], p, in_a, radius);
-      MomentsN<Dim> m_own, m_other;
-      grid.forEachCellNear(p, radius, [&](const NeighbourGrid::Range& rg) {
-        chunk_tests += static_cast<std::size_t>(rg.end - rg.begin);
-        addWithin(in_a ? rg.begin : rg.mid, in_a ? rg.mid : rg.end, p, r2, m_own);
-        addWithin(in_a ? rg.mid : rg.begin, in_a ? rg.end : rg.mid, p, r2, m_other);
-      });
+      MomentsN<Dim> m_a, m_b;  // a's and b's points near p
+      chunk_tests += momentsNear<Dim>(grid, p, radius, &m_a, &m_b);
+      const MomentsN<Dim>& m_own = in_a ? m_a : m_b;
+      const MomentsN<Dim>& m_other = in_a ? m_b : m_a;
       scorePoint(m_own, m_other, cfg, &out[k]);
     }
     tests += chunk_tests;

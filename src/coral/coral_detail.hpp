@@ -10,19 +10,10 @@
 namespace coral_introspection {
 namespace core {
 namespace detail {
-// Internal linkage for the per-neighbour kernels, as when they lived in coral.cpp: the
-// compiler then inlines them into the scoring loops the same way (callgrind: 1 % fewer
-// instructions per radar pair than with external linkage).
+// Internal linkage for the per-point helpers, as when they lived in coral.cpp: the compiler
+// then inlines them into the scoring loops the same way. The neighbour kernel itself is in
+// moments_kernel.hpp.
 namespace {
-
-// Adds the points of [begin, end) within sqrt(r2) of p to m, centred on p.
-template <int Dim>
-void addWithin(const Vec3* begin, const Vec3* end, const Vec3& p, double r2, MomentsN<Dim>& m) {
-  for (const Vec3* x = begin; x != end; ++x) {
-    const typename MomentsN<Dim>::V d = (*x - p).template head<Dim>();
-    if (d.squaredNorm() <= r2) m.add(d);
-  }
-}
 
 template <int Dim>
 double pointRadius(const CoralConfig& cfg, const Vec3& p, const Vec3& origin) {

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "coral_detail.hpp"
+#include "coral_introspection/coral/moments_kernel.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
 #include "coral_introspection/coral/parallel.hpp"
 
@@ -31,19 +32,6 @@ auto& own(S& side, std::size_t k) {  // Side or const Side
     return side.own2[k];
   else
     return side.own3[k];
-}
-
-// Moments of the points within r of p in one grid (every point of the grid: one cloud).
-template <int Dim>
-MomentsN<Dim> momentsNear(const NeighbourGrid& g, const Vec3& p, double radius,
-                          std::size_t* tests) {
-  MomentsN<Dim> m;
-  const double r2 = radius * radius;
-  g.forEachCellNear(p, radius, [&](const NeighbourGrid::Range& rg) {
-    *tests += static_cast<std::size_t>(rg.end - rg.begin);
-    detail::addWithin(rg.begin, rg.end, p, r2, m);
-  });
-  return m;
 }
 
 // m's deviations (taken in the other cloud's frame) expressed in the query's frame by R.
@@ -80,7 +68,8 @@ struct CoralPair::Impl {
       for (std::size_t k = k0; k < k1; ++k) {
         const Vec3& p = pts[sd.queries[k]];
         sd.radius[k] = detail::pointRadius<Dim>(cfg, p, origin[s]);
-        const MomentsN<Dim>& m = own<Dim>(sd, k) = momentsNear<Dim>(*sd.grid, p, sd.radius[k], &t);
+        MomentsN<Dim>& m = own<Dim>(sd, k);
+        t += momentsNear<Dim>(*sd.grid, p, sd.radius[k], &m);
         sd.h_own[k].ok =
             m.n >= cfg.min_neighbours &&
             differentialEntropy(m.covariance(), cfg.dimension, cfg.epsilon, &sd.h_own[k].h);
@@ -108,7 +97,8 @@ struct CoralPair::Impl {
       for (std::size_t i = i0; i < i1; ++i) {
         const std::size_t k = subset ? (*subset)[i] : i;
         const Vec3& q = pts[sd.queries[k]];
-        MomentsN<Dim> m_other = momentsNear<Dim>(other, M * q, sd.radius[k], &t);
+        MomentsN<Dim> m_other;
+        t += momentsNear<Dim>(other, M * q, sd.radius[k], &m_other);
         rotate(R_back, &m_other);
         detail::setPoint(out[i], s == 0 ? q : Vec3(T_a_b * q), s == 0, sd.radius[k]);
         const OwnEntropy& h_own = sd.h_own[k];

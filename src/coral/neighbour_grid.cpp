@@ -1,5 +1,7 @@
 #include "coral_introspection/coral/neighbour_grid.hpp"
 
+#include <algorithm>
+
 namespace coral_introspection {
 namespace core {
 
@@ -7,83 +9,131 @@ NeighbourGrid::NeighbourGrid(const Points& a, const Points& b, double cell_size,
     : dim_(dim), cell_(cell_size), inv_cell_(1.0 / cell_size) {
   const std::size_t na = a.size(), n = a.size() + b.size();
   auto at = [&](std::size_t i) -> const Vec3& { return i < na ? a[i] : b[i - na]; };
-  // Table at most half full so probes stay short (sized for the worst case, one cell per
-  // point).
-  std::size_t cap = 16;
-  while (cap < 2 * n) cap <<= 1;
-  mask_ = cap - 1;
-  table_.assign(cap, -1);
+  auto cellOf = [&](const Vec3& p, int64_t* c) {
+    c[0] = cellCoord(p.x());
+    c[1] = cellCoord(p.y());
+    c[2] = dim == 3 ? cellCoord(p.z()) : 0;
+  };
+  if (n > 0) cellOf(at(0), base_);
+  // Half a slot per point: no growth for radar features (~5 points per cell) or voxelised
+  // lidar (~4); doubled whenever it would become more than half full.
+  rebuildTables(std::max<std::size_t>(16, n / 2), 0);
+  cells_.reserve(n / 4 + 16);
   // Counting sort by cell, O(n): pass 1 gives every point its cell (cells numbered by first
   // appearance) and counts a's and b's points per cell; pass 2 scatters, keeping the input
   // order within a cell (a's points before b's).
   std::vector<uint32_t> cell_of(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& p = at(i);
-    const int64_t x = cellCoord(p.x()), y = cellCoord(p.y()), z = dim == 3 ? cellCoord(p.z()) : 0;
-    uint64_t s = hash(x, y, z) & mask_;
-    while (true) {
-      const int32_t ci = table_[s];
-      if (ci < 0) {
-        table_[s] = static_cast<int32_t>(cells_.size());
-        cells_.push_back({x, y, z, 0, 0, 0});
-        break;
-      }
-      const Cell& c = cells_[ci];
-      if (c.x == x && c.y == y && c.z == z) break;
-      s = (s + 1) & mask_;
-    }
-    const auto ci = static_cast<uint32_t>(table_[s]);
+    int64_t c[3];
+    cellOf(at(i), c);
+    const uint32_t ci = insert(c[0], c[1], c[2]);
     cell_of[i] = ci;
-    ++(i < na ? cells_[ci].mid : cells_[ci].end);  // counts of a (mid) and b (end) for now
-  }
-  // Re-size the table to the cells (the worst case above is rarely needed): a table that
-  // fits the cache keeps the queries' probes cheap.
-  std::size_t tight = 16;
-  while (tight < 2 * cells_.size()) tight <<= 1;
-  if (tight < cap) {
-    mask_ = tight - 1;
-    table_.assign(tight, -1);
-    for (std::size_t c = 0; c < cells_.size(); ++c) {
-      uint64_t s = hash(cells_[c].x, cells_[c].y, cells_[c].z) & mask_;
-      while (table_[s] >= 0) s = (s + 1) & mask_;
-      table_[s] = static_cast<int32_t>(c);
-    }
+    ++(i < na ? cells_[ci].b.mid : cells_[ci].b.end);  // counts of a (mid) and b (end) for now
   }
   uint32_t offset = 0;
   for (Cell& c : cells_) {
-    const uint32_t count_a = c.mid, count_b = c.end;
-    c.begin = offset;
-    c.mid = offset + count_a;
-    c.end = c.mid + count_b;
-    offset = c.end;
+    const uint32_t count_a = c.b.mid, count_b = c.b.end;
+    c.b = {offset, offset + count_a, offset + count_a + count_b};
+    offset = c.b.end;
   }
+  uint64_t key;
+  for (const Cell& c : cells_)
+    if (pack(c.x, c.y, c.z, &key)) near_[c.slot].b = c.b;
   points_.resize(n);
   index_.resize(n);
   std::vector<uint32_t> fill_a(cells_.size()), fill_b(cells_.size());
   for (std::size_t c = 0; c < cells_.size(); ++c) {
-    fill_a[c] = cells_[c].begin;
-    fill_b[c] = cells_[c].mid;
+    fill_a[c] = cells_[c].b.begin;
+    fill_b[c] = cells_[c].b.mid;
   }
+  const int axes = dim == 3 ? 3 : 2;  // 2D: z is never read
+  for (int axis = 0; axis < axes; ++axis) soa_[axis].reset(new double[n]);
   for (std::size_t i = 0; i < n; ++i) {
     const uint32_t dst = i < na ? fill_a[cell_of[i]]++ : fill_b[cell_of[i]]++;
-    points_[dst] = at(i);
+    const Vec3& p = at(i);
+    points_[dst] = p;
     index_[dst] = static_cast<uint32_t>(i);
+    for (int axis = 0; axis < axes; ++axis) soa_[axis][dst] = p[axis];
   }
 }
 
-void NeighbourGrid::neighbourRanges(std::size_t c, int reach, std::vector<Range>* out) const {
-  out->clear();
+void NeighbourGrid::rebuildTables(std::size_t near_slots, std::size_t far_slots) {
+  int bits = 0;
+  while ((std::size_t{1} << bits) < near_slots) ++bits;
+  near_.assign(std::size_t{1} << bits, Slot{0, 0, {0, 0, 0}});
+  near_mask_ = near_.size() - 1;
+  shift_ = 64 - bits;
+  near_used_ = 0;
+  far_.assign(far_slots, -1);
+  far_mask_ = far_slots > 0 ? far_slots - 1 : 0;
+  far_used_ = 0;
+  for (std::size_t ci = 0; ci < cells_.size(); ++ci) {
+    Cell& c = cells_[ci];
+    uint64_t key;
+    if (pack(c.x, c.y, c.z, &key)) {
+      std::size_t s = slotOf(key);
+      while (near_[s].key != 0) s = (s + 1) & near_mask_;
+      near_[s] = {key, static_cast<uint32_t>(ci), c.b};
+      c.slot = static_cast<uint32_t>(s);
+      ++near_used_;
+    } else {
+      uint64_t s = hash(c.x, c.y, c.z) & far_mask_;
+      while (far_[s] >= 0) s = (s + 1) & far_mask_;
+      far_[s] = static_cast<int32_t>(ci);
+      ++far_used_;
+    }
+  }
+}
+
+uint32_t NeighbourGrid::insertFar(int64_t x, int64_t y, int64_t z) {
+  const auto fresh = static_cast<uint32_t>(cells_.size());
+  if (!far_.empty()) {
+    for (uint64_t s = hash(x, y, z) & far_mask_; far_[s] >= 0; s = (s + 1) & far_mask_) {
+      const Cell& c = cells_[far_[s]];
+      if (c.x == x && c.y == y && c.z == z) return static_cast<uint32_t>(far_[s]);
+    }
+  }
+  // A new cell far from the base (adversarial or broken input only): the far table is
+  // rebuilt, doubled, whenever it would become more than half full.
+  cells_.push_back({x, y, z, {0, 0, 0}, 0});
+  if (2 * (far_used_ + 1) > far_.size()) {
+    rebuildTables(near_.size(), std::max<std::size_t>(16, 2 * far_.size()));
+    return fresh;
+  }
+  ++far_used_;
+  uint64_t s = hash(x, y, z) & far_mask_;
+  while (far_[s] >= 0) s = (s + 1) & far_mask_;
+  far_[s] = static_cast<int32_t>(fresh);
+  return fresh;
+}
+
+void NeighbourGrid::neighbourSpans(std::size_t c, Span* a, int* na, Span* b, int* nb) const {
+  *na = *nb = 0;
+  auto add = [&](const Bounds* n) {
+    if (n == nullptr) return;
+    if (n->mid > n->begin) a[(*na)++] = {n->begin, n->mid};
+    if (n->end > n->mid) b[(*nb)++] = {n->mid, n->end};
+  };
   const Cell& cell = cells_[c];
-  if (dim_ == 2) {  // z is always 0: one loop less
-    for (int64_t ix = cell.x - reach; ix <= cell.x + reach; ++ix)
-      for (int64_t iy = cell.y - reach; iy <= cell.y + reach; ++iy)
-        if (const Cell* n = find(ix, iy, 0)) out->push_back(range(*n));
+  const int64_t rz = dim_ == 2 ? 0 : 1;
+  uint64_t k0 = 0, k1 = 0;
+  if (!pack(cell.x - 1, cell.y - 1, cell.z - rz, &k0) ||
+      !pack(cell.x + 1, cell.y + 1, cell.z + rz, &k1)) {
+    for (int64_t ix = cell.x - 1; ix <= cell.x + 1; ++ix)
+      for (int64_t iy = cell.y - 1; iy <= cell.y + 1; ++iy)
+        for (int64_t iz = cell.z - rz; iz <= cell.z + rz; ++iz) add(find(ix, iy, iz));
     return;
   }
-  for (int64_t ix = cell.x - reach; ix <= cell.x + reach; ++ix)
-    for (int64_t iy = cell.y - reach; iy <= cell.y + reach; ++iy)
-      for (int64_t iz = cell.z - reach; iz <= cell.z + reach; ++iz)
-        if (const Cell* n = find(ix, iy, iz)) out->push_back(range(*n));
+  // Every cell of the block packs: its keys follow from the first corner's.
+  constexpr uint64_t kY = uint64_t{1} << kPackBits, kZ = uint64_t{1} << (2 * kPackBits);
+  if (dim_ == 2) {  // z is always 0: one loop less
+    for (uint64_t dx = 0; dx < 3; ++dx)
+      for (uint64_t dy = 0; dy < 3; ++dy) add(findNear(k0 + dx + dy * kY));
+    return;
+  }
+  for (uint64_t dx = 0; dx < 3; ++dx)
+    for (uint64_t dy = 0; dy < 3; ++dy)
+      for (uint64_t dz = 0; dz < 3; ++dz) add(findNear(k0 + dx + dy * kY + dz * kZ));
 }
 
 }  // namespace core

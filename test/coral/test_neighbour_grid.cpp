@@ -93,7 +93,8 @@ TEST(NeighbourGrid, TwoCloudCellsSplitIntoAThenB) {
   const NeighbourGrid grid(a, b, 0.7, 2);
   ASSERT_EQ(grid.size(), 900u);
   std::size_t seen_a = 0, seen_b = 0;
-  std::vector<NeighbourGrid::Range> ranges;
+  NeighbourGrid::Span spans[2][NeighbourGrid::kBlockCells];
+  int num_spans[2];
   for (std::size_t c = 0; c < grid.numCells(); ++c) {
     const NeighbourGrid::Range r = grid.cellPoints(c);
     const uint32_t* idx = grid.cellIndices(c);
@@ -103,15 +104,24 @@ TEST(NeighbourGrid, TwoCloudCellsSplitIntoAThenB) {
       EXPECT_EQ(*p, is_a ? a[*idx] : b[*idx - 500]);
       (is_a ? seen_a : seen_b)++;
     }
-    // The 3x3 neighbour ranges hold every point within one cell size of this cell's points.
-    grid.neighbourRanges(c, 1, &ranges);
-    std::size_t in_ranges = 0;
-    for (const auto& rg : ranges)
-      for (const Vec3* p = rg.begin; p != rg.end; ++p) in_ranges += (*p - *r.begin).norm() <= 0.7;
-    std::size_t brute_count = 0;
-    for (const Vec3& p : a) brute_count += (p - *r.begin).norm() <= 0.7;
-    for (const Vec3& p : b) brute_count += (p - *r.begin).norm() <= 0.7;
-    EXPECT_EQ(in_ranges, brute_count);
+    // The 3x3 neighbour spans hold every point of a (of b) within one cell size of this
+    // cell's points, and nothing of the other cloud.
+    grid.neighbourSpans(c, spans[0], &num_spans[0], spans[1], &num_spans[1]);
+    const Points& sorted = grid.sortedPoints();
+    for (int s = 0; s < 2; ++s) {
+      const bool of_a = s == 0;
+      std::size_t in_spans = 0;
+      for (int k = 0; k < num_spans[s]; ++k)
+        for (uint32_t i = spans[s][k].begin; i < spans[s][k].end; ++i) {
+          EXPECT_EQ(grid.sortedIndices()[i] < 500u, of_a);
+          EXPECT_EQ(grid.coordinates(0)[i], sorted[i].x());
+          EXPECT_EQ(grid.coordinates(1)[i], sorted[i].y());
+          in_spans += (sorted[i] - *r.begin).norm() <= 0.7;
+        }
+      std::size_t brute_count = 0;
+      for (const Vec3& p : of_a ? a : b) brute_count += (p - *r.begin).norm() <= 0.7;
+      EXPECT_EQ(in_spans, brute_count);
+    }
   }
   EXPECT_EQ(seen_a, 500u);
   EXPECT_EQ(seen_b, 400u);
@@ -143,5 +153,30 @@ TEST(NeighbourGrid, BallPruningAndHugeCoordinatesStayExact) {
     grid.forEachWithin(q, 0.5, [&](const Vec3&, uint32_t i) { got.push_back(i); });
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, brute(pts, q, 0.5, 3));
+  }
+}
+
+// Cells more than 2^20 cells from the first point's cell do not fit the packed key of the
+// fast table: they go to a second table (grown as they come). A cloud split between two
+// places 10^7 m apart is searched exactly in both, and a cluster of 3000 far cells grows
+// the second table several times.
+TEST(NeighbourGrid, CellsFarFromTheFirstPointAreFoundExactly) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-6.0, 6.0);
+  Points pts;
+  for (int i = 0; i < 1500; ++i) pts.emplace_back(u(rng), u(rng), 0.1 * u(rng));
+  for (int i = 0; i < 3000; ++i) pts.emplace_back(1e7 + 5.0 * u(rng), -3e6 + 5.0 * u(rng), u(rng));
+  for (int dim : {2, 3}) {
+    const NeighbourGrid grid(pts, 0.25, dim);  // 4e7 cells between the two places
+    EXPECT_EQ(grid.size(), pts.size());
+    for (const Vec3& centre : {Vec3(0.0, 0.0, 0.0), Vec3(1e7, -3e6, 0.0)}) {
+      for (int k = 0; k < 60; ++k) {
+        const Vec3 q = centre + Vec3(u(rng), u(rng), 0.1 * u(rng));
+        std::vector<uint32_t> got;
+        grid.forEachWithin(q, 0.6, [&](const Vec3&, uint32_t i) { got.push_back(i); });
+        std::sort(got.begin(), got.end());
+        ASSERT_EQ(got, brute(pts, q, 0.6, dim)) << "dim " << dim << " near " << centre.x();
+      }
+    }
   }
 }

@@ -46,7 +46,8 @@ using Moments = MomentsN<3>;
 
 // Differential entropy of N(mu, Sigma) in nats, restricted to the first `dim` (2 or 3)
 // coordinates: h = 1/2 ln((2 pi e)^N det Sigma)  (Eq. 1).
-// log det is taken from the eigenvalues of the symmetric matrix, never from log(det()).
+// det is the product of the symmetric matrix's eigenvalues (their logarithms summed when
+// it would underflow), never Sigma.determinant().
 // epsilon > 0 is option (1) of Sec. III-C: the determinant is floored as det + epsilon, so
 // h >= 1/2 ln((2 pi e)^N epsilon) and lines / planes stay finite.
 // Returns false (h untouched) when Sigma is not finite, when the points coincide (zero
