@@ -16,14 +16,6 @@ using coral_introspection::ros_adapters::releaseFreeHeap;
 
 namespace {
 
-// Resident set size of this process [bytes] (/proc/self/statm, second field in pages).
-double rssBytes() {
-  std::ifstream f("/proc/self/statm");
-  double size = 0.0, resident = 0.0;
-  f >> size >> resident;
-  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
-}
-
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer)
 #define CORAL_HEAP_ASAN 1
@@ -31,6 +23,16 @@ double rssBytes() {
 #endif
 #if defined(__SANITIZE_ADDRESS__)
 #define CORAL_HEAP_ASAN 1
+#endif
+
+#if !defined(CORAL_HEAP_ASAN) && defined(__GLIBC__)
+// Resident set size of this process [bytes] (/proc/self/statm, second field in pages).
+double rssBytes() {
+  std::ifstream f("/proc/self/statm");
+  double size = 0.0, resident = 0.0;
+  f >> size >> resident;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
 #endif
 
 }  // namespace

@@ -117,7 +117,6 @@ class SelfCalibration {
   std::deque<PairSamples> pairs_;
   CalibrationStatus status_;
   core::ToleranceConfig tolerance_;  // of the last pair (written into the YAML)
-  int dimension_ = 3;
 };
 
 }  // namespace online
