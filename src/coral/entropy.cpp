@@ -21,7 +21,7 @@ double logAddExp(double a, double b) {
 
 bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h) {
   if (!sigma.allFinite()) return false;
-  double eig_min = 0.0, eig_max = 0.0, det = 1.0;
+  double eig_min = 0.0, eig_max = 0.0;
   Eigen::Vector3d ev = Eigen::Vector3d::Ones();
   if (dim == 2) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es;
@@ -47,7 +47,7 @@ bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h) 
     if (epsilon <= 0.0) return false;  // collinear / coplanar: no finite entropy
     log_det = std::log(epsilon);       // det ~ 0, so det + epsilon ~ epsilon
   } else {
-    det = ev(0) * ev(1) * ev(2);  // ev(2) is 1 in 2D
+    const double det = ev(0) * ev(1) * ev(2);  // ev(2) is 1 in 2D
     if (det >= std::numeric_limits<double>::min()) {
       // One logarithm: a neighbourhood lies within the radius (<= 10 m), so the product of
       // the eigenvalues neither overflows nor, checked here, underflows.

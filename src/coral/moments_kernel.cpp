@@ -118,6 +118,7 @@ CORAL_AVX2 void addWithinAvx2(const NeighbourGrid& g, const Span* spans, std::si
   acc.addTo(m);
 }
 
+// Fewer candidates than this go one at a time (addWithin).
 constexpr std::size_t kMinVectorCandidates = 8;
 
 bool avx2Usable() {
@@ -130,8 +131,6 @@ bool avx2Usable() {
   return usable;
 }
 #else
-constexpr std::size_t kMinVectorCandidates = 8;
-
 bool avx2Usable() { return false; }
 #endif
 

@@ -141,7 +141,8 @@ void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally
   const core::VerdictConfig& verdict = node.online.verdict;
   const double m = verdict.tolerance.translation;
   const core::Vec3 offsets[5] = {{0, 0, 0}, {m, 0, 0}, {-m, 0, 0}, {0, m, 0}, {0, -m, 0}};
-  for (std::size_t i = 0; i < d.pairs.size(); i += stride()) {
+  const std::size_t step = stride();
+  for (std::size_t i = 0; i < d.pairs.size(); i += step) {
     const core::ScanPair& p = d.pairs[i];
     ++t->pairs;
     core::AlignmentVerdict gt;

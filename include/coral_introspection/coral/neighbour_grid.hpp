@@ -94,7 +94,6 @@ class NeighbourGrid {
 
   std::size_t size() const { return points_.size(); }
   double cellSize() const { return cell_; }
-  int dimension() const { return dim_; }
   // Points sorted by cell, their original indices, and the position of a point in them.
   const Points& sortedPoints() const { return points_; }
   const std::vector<uint32_t>& sortedIndices() const { return index_; }
