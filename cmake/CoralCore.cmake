@@ -12,7 +12,7 @@ find_package(Ceres REQUIRED)
 find_library(CORAL_CERES_LIBRARY NAMES libceres.so ceres REQUIRED)
 find_library(CORAL_GLOG_LIBRARY NAMES glog REQUIRED)
 find_package(yaml-cpp REQUIRED)  # RioConfig from YAML (rio/config_yaml.hpp)
-find_package(PCL REQUIRED COMPONENTS common io)
+find_package(PCL REQUIRED COMPONENTS common io registration)
 find_package(Threads REQUIRED)  # CoralConfig::threads (std::thread)
 
 set(CORAL_WARNINGS -Wall -Wextra)

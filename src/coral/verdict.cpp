@@ -15,14 +15,16 @@ const char* verdictMethodName(VerdictMethod m) {
       return "relative";
     case VerdictMethod::kBoth:
       return "both";
+    case VerdictMethod::kGated:
+      return "gated";
     default:
       return "classifier";
   }
 }
 
 bool parseVerdictMethod(const std::string& name, VerdictMethod* m) {
-  for (VerdictMethod v :
-       {VerdictMethod::kClassifier, VerdictMethod::kRelative, VerdictMethod::kBoth})
+  for (VerdictMethod v : {VerdictMethod::kClassifier, VerdictMethod::kRelative,
+                          VerdictMethod::kBoth, VerdictMethod::kGated})
     if (name == verdictMethodName(v)) {
       *m = v;
       return true;
@@ -30,13 +32,46 @@ bool parseVerdictMethod(const std::string& name, VerdictMethod* m) {
   return false;
 }
 
+std::string GateConfig::validate() const {
+  return Problems()
+      .require(min_probability >= 0.0 && min_probability < 1.0, "min_probability",
+               "in [0, 1), 0 = off", min_probability)
+      .require(min_overlap >= 0.0 && min_overlap < 1.0, "min_overlap", "in [0, 1), 0 = off",
+               min_overlap)
+      .str();
+}
+
 std::string VerdictConfig::validate() const {
   return Problems()
       .nested("classifier", classifier.validate())
       .nested("tolerance", tolerance.validate())
       .nested("relative", relative.validate())
+      .nested("gate", gate.validate())
+      .nested("loop_closure", loop_closure.validate())
       .str();
 }
+
+VerdictConfig loopClosureVerdict(const VerdictConfig& cfg) {
+  VerdictConfig v = cfg;
+  v.method = VerdictMethod::kGated;
+  v.gate = cfg.loop_closure;
+  return v;
+}
+
+namespace {
+std::string number(double v) {
+  std::ostringstream s;
+  s << std::setprecision(3) << v;
+  return s.str();
+}
+
+// Why the relative check calls the pose misaligned, in words.
+std::string relativeRejection(const RelativeCheckResult& r, const RelativeCheckConfig& cfg) {
+  std::string s = "relative check: score " + number(r.score) + " > margin " + number(cfg.margin);
+  if (!r.hint.name.empty()) s += " (Q lower at " + r.hint.name + ")";
+  return s;
+}
+}  // namespace
 
 double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConfig& cfg) {
   return r.valid ? sigmoid(10.0 * (cfg.margin - r.score)) : 0.0;
@@ -44,7 +79,7 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
-                    AlignmentVerdict* out) {
+                    AlignmentVerdict* out, const GateConfig& gate, double overlap) {
   const bool rel_needed = method != VerdictMethod::kClassifier;
   if (rel_needed && !relative.valid) {
     out->valid = out->aligned = false;
@@ -55,18 +90,41 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
   const double p_rel = relativeProbability(relative, cfg);
   out->valid = true;
   out->reason.clear();
+  out->rejected_by.clear();
+  const std::string p_words = "classifier p " + number(classifier.probability);
   switch (method) {
     case VerdictMethod::kClassifier:
       out->probability = classifier.probability;
       out->aligned = classifier.aligned;
+      if (!out->aligned) out->rejected_by = p_words + " below its threshold";
       break;
     case VerdictMethod::kRelative:
       out->probability = p_rel;
       out->aligned = !relative.misaligned;
+      if (!out->aligned) out->rejected_by = relativeRejection(relative, cfg);
       break;
     case VerdictMethod::kBoth:
       out->probability = std::min(classifier.probability, p_rel);
       out->aligned = classifier.aligned && !relative.misaligned;
+      if (relative.misaligned)
+        out->rejected_by = relativeRejection(relative, cfg);
+      else if (!classifier.aligned)
+        out->rejected_by = p_words + " below its threshold";
+      break;
+    case VerdictMethod::kGated:
+      out->probability = p_rel;
+      out->aligned = !relative.misaligned;
+      if (relative.misaligned) {
+        out->rejected_by = relativeRejection(relative, cfg);
+      } else if (classifier.probability < gate.min_probability) {
+        out->aligned = false;
+        out->rejected_by = "gate: " + p_words + " < " + number(gate.min_probability) +
+                           " (far from how aligned pairs look)";
+      } else if (overlap < gate.min_overlap) {
+        out->aligned = false;
+        out->rejected_by = "gate: overlap " + number(overlap) + " < " + number(gate.min_overlap);
+      }
+      if (!out->aligned) out->probability = std::min(p_rel, classifier.probability);
       break;
   }
 }
@@ -99,7 +157,7 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   if (rel_needed)
     v.relative =
         relativeCheck(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance, cfg.relative);
-  combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
+  combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, v.coral.overlap);
   return v;
 }
 

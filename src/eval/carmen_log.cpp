@@ -163,5 +163,51 @@ bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Re
   return true;
 }
 
+namespace {
+Eigen::Isometry3d planar(double x, double y, double theta) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Vec3(x, y, 0.0);
+  T.linear() = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+}  // namespace
+
+bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
+                       const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                       Isometries* T_world_ref, Isometries* T_world_odom,
+                       std::vector<int>* raw_index, std::string* error) {
+  if (const std::string e = geometry.validate(); !e.empty()) return fail(error, e);
+  std::ifstream in(corrected_csv);
+  if (!in) return fail(error, corrected_csv + ": cannot read");
+  scans->clear();
+  T_world_ref->clear();
+  T_world_odom->clear();
+  raw_index->clear();
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream s(line);
+    long idx = 0, raw = 0;
+    double stamp = 0, x = 0, y = 0, theta = 0;
+    if (!(s >> idx >> raw >> stamp >> x >> y >> theta))
+      return fail(error, corrected_csv + ":" + std::to_string(n) + ": malformed line");
+    if (raw < 0 || raw >= static_cast<long>(log.size()))
+      return fail(error, corrected_csv + ":" + std::to_string(n) + ": FLASER index " +
+                             std::to_string(raw) + " outside the log (" +
+                             std::to_string(log.size()) + " scans)");
+    const CarmenLaserScan& l = log[static_cast<std::size_t>(raw)];
+    TrainingScan t;
+    t.stamp = l.stamp;
+    t.scan.points = laserPoints(l, geometry);
+    scans->push_back(std::move(t));
+    T_world_ref->push_back(planar(x, y, theta));
+    T_world_odom->push_back(planar(l.laser_pose.x(), l.laser_pose.y(), l.laser_pose.z()));
+    raw_index->push_back(static_cast<int>(raw));
+  }
+  if (scans->empty()) return fail(error, corrected_csv + ": no poses");
+  return true;
+}
+
 }  // namespace core
 }  // namespace coral_introspection

@@ -36,6 +36,8 @@ std::string IntrospectorConfig::validate() const {
   add(&e, prefixMessages("classifier/", verdict.classifier.validate()));
   add(&e, prefixMessages("classifier/", verdict.relative.validate()));  // relative_margin, ...
   add(&e, prefixMessages("tolerance/", verdict.tolerance.validate()));
+  add(&e, prefixMessages("gate/", verdict.gate.validate()));
+  add(&e, prefixMessages("loop_closure/", verdict.loop_closure.validate()));
   add(&e, prefixMessages("motion_compensation/", deskew.validate()));
   if (doppler.enabled) add(&e, prefixMessages("doppler/", doppler.validate()));
   if (calibration.enabled) add(&e, prefixMessages("calibration/", calibration.validate()));

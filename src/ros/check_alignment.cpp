@@ -34,8 +34,12 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
   core::Scan a, b;
   a.points = std::move(sa.scan.features.points);
   b.points = std::move(sb.scan.features.points);
-  const online::PairJudgement j = online::judgePair(std::move(a), b, T_a_b, cfg.online, false);
-  res->result = toMessage(j.verdict, cfg.online.verdict, ha, ha.stamp, stamp_b);
+  // A loop-closure candidate: the gated verdict with the loop gate (coral/verdict.hpp).
+  online::IntrospectorConfig judge = cfg.online;
+  if (req.loop_closure) judge.verdict = core::loopClosureVerdict(cfg.online.verdict);
+  const online::PairJudgement j = online::judgePair(std::move(a), b, T_a_b, judge, false);
+  res->result = toMessage(j.verdict, judge.verdict, ha, ha.stamp, stamp_b);
+  res->result.loop_closure = req.loop_closure;
   res->result.reason = j.reason;
   res->error = j.reason;
   return true;

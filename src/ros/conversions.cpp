@@ -261,6 +261,7 @@ AlignmentQuality toMessage(const core::AlignmentVerdict& v, const core::VerdictC
   m.aligned = v.valid && v.aligned;
   m.probability = v.valid ? v.probability : 0.0;
   m.method = core::verdictMethodName(cfg.method);
+  m.rejected_by = v.rejected_by;
   m.tolerance_translation = cfg.tolerance.translation;
   m.tolerance_rotation = cfg.tolerance.rotation_deg;
   m.relative_score = v.relative.valid ? v.relative.score : std::nan("");

@@ -123,7 +123,7 @@ class Reader {
 std::vector<std::string> methodNames() {
   std::vector<std::string> n;
   for (auto m : {core::VerdictMethod::kClassifier, core::VerdictMethod::kRelative,
-                 core::VerdictMethod::kBoth})
+                 core::VerdictMethod::kBoth, core::VerdictMethod::kGated})
     n.push_back(core::verdictMethodName(m));
   return n;
 }
@@ -169,6 +169,10 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("classifier/relative_margin", &o.verdict.relative.margin) &&
       r.get("classifier/flat_ratio", &o.verdict.relative.flat_ratio) &&
       r.get("classifier/probe_queries", &o.verdict.relative.probe_queries) &&
+      r.get("gate/min_probability", &o.verdict.gate.min_probability) &&
+      r.get("gate/min_overlap", &o.verdict.gate.min_overlap) &&
+      r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
+      r.get("loop_closure/min_overlap", &o.verdict.loop_closure.min_overlap) &&
       r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
       r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&
@@ -277,8 +281,8 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
       return false;
     }
     if (warnings)
-      r.unknownKeys({"pairing", "coral", "classifier", "tolerance", "radar", "rip",
-                     "motion_compensation", "publish", "doppler", "testing", "calibration"},
+      r.unknownKeys({"pairing", "coral", "classifier", "gate", "loop_closure", "tolerance", "radar",
+                     "rip", "motion_compensation", "publish", "doppler", "testing", "calibration"},
                     warnings);
   } catch (const XmlRpc::XmlRpcException& e) {
     *error = std::string("malformed parameter tree: ") + e.getMessage();

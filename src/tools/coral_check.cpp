@@ -1,6 +1,8 @@
 // coral_check: offline CorAl verdict for one pair of scans, with a nodelet preset.
 //   rosrun coral_introspection coral_check --config PRESET.yaml [--classifier FILE.yaml]
-//       --a FILE --b FILE --transform_file T.txt [--repeat N]
+//       [--loop_closure] --a FILE --b FILE --transform_file T.txt [--repeat N]
+// --loop_closure: the pair is a loop-closure candidate (the check_alignment request's
+// loop_closure): the gated verdict with the preset's loop_closure/ gate (coral/verdict.hpp).
 // FILE: .pcd (ascii/binary, fields x y z [intensity]), .bin (KITTI float32 x y z i), .csv
 // (x,y,z columns) for a point-cloud preset; .png (polar radar image, the preset's
 // radar/polar_format) for a polar_image preset. T.txt: 4x4 or 3x4 row-major T_a_b mapping
@@ -36,8 +38,8 @@ using ros_adapters::NodeConfig;
 namespace {
 
 constexpr const char* kUsage =
-    "usage: coral_check --config PRESET.yaml [--classifier FILE.yaml] --a FILE --b FILE "
-    "--transform_file T.txt [--repeat N]";
+    "usage: coral_check --config PRESET.yaml [--classifier FILE.yaml] [--loop_closure] --a FILE "
+    "--b FILE --transform_file T.txt [--repeat N]";
 
 int fail(const std::string& msg) {
   std::fprintf(stderr, "coral_check: %s\n", msg.c_str());
@@ -157,11 +159,16 @@ int main(int argc, char** argv) {
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
   std::string config, classifier, path_a, path_b, transform;
   int repeat = 1;
+  bool loop_closure = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") {
       std::printf("%s\n", kUsage);
       return 0;
+    }
+    if (arg == "--loop_closure") {
+      loop_closure = true;
+      continue;
     }
     if (i + 1 >= argc) return fail("missing value after " + arg + "\n" + kUsage);
     const std::string val = argv[++i];
@@ -200,6 +207,7 @@ int main(int argc, char** argv) {
   for (const std::string& w : warnings)
     std::fprintf(stderr, "coral_check: warning: %s\n", w.c_str());
 
+  if (loop_closure) cfg.online.verdict = core::loopClosureVerdict(cfg.online.verdict);
   Eigen::Isometry3d T_a_b;
   if (!core::readTransformFile(transform, &T_a_b, &err)) return fail(err);
   Input a, b;
@@ -221,11 +229,13 @@ int main(int argc, char** argv) {
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
       "\"num_points_b\": %zu, \"seconds\": %.6f, \"quality_stderr\": %.6f, \"num_valid\": %zu, "
       "\"num_queries\": %zu, \"num_non_finite\": %zu, \"num_out_of_range\": %zu, "
-      "\"num_thinned\": %zu, \"num_merged\": %zu, \"num_degenerate\": %zu, \"reason\": \"%s\"}\n",
+      "\"num_thinned\": %zu, \"num_merged\": %zu, \"num_degenerate\": %zu, \"reason\": \"%s\", "
+      "\"method\": \"%s\", \"loop_closure\": %s, \"rejected_by\": \"%s\"}\n",
       r.valid ? "true" : "false", out.verdict.valid && out.verdict.aligned ? "true" : "false",
       out.verdict.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
       r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
-      jsonEscape(out.reason).c_str());
+      jsonEscape(out.reason).c_str(), core::verdictMethodName(cfg.online.verdict.method),
+      loop_closure ? "true" : "false", jsonEscape(out.verdict.rejected_by).c_str());
   return 0;
 }

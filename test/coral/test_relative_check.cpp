@@ -2,6 +2,7 @@
 // relative check / verdict on a ray-cast scene with induced misalignments.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -168,4 +169,58 @@ TEST(Verdict, MethodsCombineClassifierAndRelativeCheck) {
   EXPECT_FALSE(r.aligned);
   EXPECT_EQ(r.relative.coral_evaluations, 0);
   EXPECT_FALSE(r.reason.empty());
+}
+
+// The gated verdict: the relative check, then the absolute gate (classifier p, overlap). At
+// ground truth a gate the pair passes keeps it aligned; the same pose with a gate above the
+// pair's p, or above its overlap, is rejected and says which term did it; an offset the
+// relative check flags is rejected by the relative check whatever the gate says.
+TEST(Verdict, GatedRejectsWhatTheGateRejectsAndNamesTheTerm) {
+  const Pair p = yardPair(1);
+  const CoralConfig coral = planarYardCoral();
+  VerdictConfig v;
+  v.tolerance = ToleranceConfig::lidar2d();
+  v.method = VerdictMethod::kGated;
+  AlignmentVerdict r = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);  // gate off (defaults)
+  ASSERT_TRUE(r.valid) << r.reason;
+  ASSERT_TRUE(r.aligned) << r.rejected_by;
+  EXPECT_TRUE(r.rejected_by.empty());
+  const double p_gt = r.classifier.probability, overlap_gt = r.coral.overlap;
+  ASSERT_GT(p_gt, 0.0);
+  ASSERT_LT(p_gt, 1.0);
+  v.gate.min_probability = std::nextafter(p_gt, 0.0);  // just below: passes
+  v.gate.min_overlap = std::nextafter(overlap_gt, 0.0);
+  EXPECT_TRUE(judgeAlignment(p.a, p.b, p.T_a_b, coral, v).aligned);
+  v.gate.min_probability = std::min(0.999, p_gt * 1.01 + 1e-9);  // above the pair's p
+  r = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(r.aligned);
+  EXPECT_NE(r.rejected_by.find("classifier p"), std::string::npos) << r.rejected_by;
+  EXPECT_LE(r.probability, p_gt);
+  v.gate.min_probability = 0.0;
+  v.gate.min_overlap = std::min(0.999, overlap_gt + 0.01);
+  r = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);
+  EXPECT_FALSE(r.aligned);
+  EXPECT_NE(r.rejected_by.find("overlap"), std::string::npos) << r.rejected_by;
+  v.gate.min_overlap = 0.0;
+  r = judgeAlignment(p.a, p.b, p.T_a_b * se2(0.3, 0.0, 0.0), coral, v);
+  EXPECT_FALSE(r.aligned);
+  EXPECT_NE(r.rejected_by.find("relative check"), std::string::npos) << r.rejected_by;
+  // The loop-closure verdict is the gated one with the loop gate.
+  v.method = VerdictMethod::kRelative;
+  v.loop_closure.min_probability = std::min(0.999, p_gt * 1.01 + 1e-9);
+  const VerdictConfig loop = loopClosureVerdict(v);
+  EXPECT_EQ(loop.method, VerdictMethod::kGated);
+  EXPECT_EQ(loop.gate.min_probability, v.loop_closure.min_probability);
+  EXPECT_TRUE(judgeAlignment(p.a, p.b, p.T_a_b, coral, v).aligned);
+  EXPECT_FALSE(judgeAlignment(p.a, p.b, p.T_a_b, coral, loop).aligned);
+  VerdictMethod m;
+  EXPECT_TRUE(parseVerdictMethod("gated", &m));
+  EXPECT_EQ(m, VerdictMethod::kGated);
+  // Values outside [0, 1) are refused and named.
+  v.gate.min_probability = 1.0;
+  EXPECT_NE(v.validate().find("min_probability"), std::string::npos);
+  v.gate.min_probability = 0.0;
+  v.loop_closure.min_overlap = -0.1;
+  EXPECT_NE(v.validate().find("loop_closure"), std::string::npos);
 }

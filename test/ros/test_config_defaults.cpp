@@ -169,6 +169,10 @@ std::string describe(const NodeConfig& c) {
     << "\nclassifier.relative_margin = " << c.online.verdict.relative.margin
     << "\nclassifier.flat_ratio = " << c.online.verdict.relative.flat_ratio
     << "\nclassifier.probe_queries = " << c.online.verdict.relative.probe_queries
+    << "\ngate.min_probability = " << c.online.verdict.gate.min_probability
+    << "\ngate.min_overlap = " << c.online.verdict.gate.min_overlap
+    << "\nloop_closure.min_probability = " << c.online.verdict.loop_closure.min_probability
+    << "\nloop_closure.min_overlap = " << c.online.verdict.loop_closure.min_overlap
     << "\ntolerance.translation = " << c.online.verdict.tolerance.translation
     << "\ntolerance.rotation_deg = " << c.online.verdict.tolerance.rotation_deg
     << "\npolar_format = " << static_cast<int>(c.polar_format)

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/loop_candidates.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 #include "support/test_data.hpp"
@@ -192,4 +194,44 @@ TEST(CoralCheckRadar, OxfordPngPairAtGroundTruthIsAligned) {
   EXPECT_EQ(field(r.out, "valid"), "true") << r.out;
   EXPECT_EQ(field(r.out, "aligned"), "true") << r.out;
   EXPECT_GT(std::stoi(field(r.out, "num_points_a")), 300);
+}
+
+// --loop_closure (the pinned interface): a revisit of the Livox sequence 52 keyframes later
+// (109 -> 161) registered by GICP is accepted by the gated loop verdict; the same scans
+// 8 tolerances off (2.4 m, past the 1 m CorAl radius) and turned by 90 deg are rejected, each
+// with the term that rejected it.
+TEST(CoralCheckLoopClosure, LivoxRevisitAcceptedAndWrongPosesRejected) {
+  CORAL_REQUIRE_DATA("hku1_livox_keyframes");
+  Isometries poses;
+  std::string err;
+  ASSERT_TRUE(readKittiPoses(coral_data + "/optimized_poses.txt", &poses, &err)) << err;
+  // The back end's own matcher: GICP from the reference relative pose.
+  LoadedCloud a, b;
+  ASSERT_TRUE(loadCloud(coral_data + "/Scans/000109.pcd", &a, &err)) << err;
+  ASSERT_TRUE(loadCloud(coral_data + "/Scans/000161.pcd", &b, &err)) << err;
+  LoopCandidate reg;
+  registerPair(a.points, b.points, poses[109].inverse() * poses[161], LoopCandidateConfig(), &reg);
+  ASSERT_TRUE(reg.converged);
+  const Eigen::Isometry3d T_a_b = reg.T_a_b;
+  const std::string cfg = std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml";
+  const std::string scans = " --a " + coral_data + "/Scans/000109.pcd --b " + coral_data +
+                            "/Scans/000161.pcd --transform_file ";
+  Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
+  shift.translation().x() = 2.4;
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Isometry3d cases[3] = {T_a_b, T_a_b * shift, T_a_b * turn};
+  for (int c = 0; c < 3; ++c) {
+    SCOPED_TRACE(c);
+    const std::string t = tempPath("cc_loop_t" + std::to_string(c), ".txt");
+    writeMatrix(t, cases[c]);
+    const CheckRun r = runCheck("--config " + cfg + " --loop_closure" + scans + t);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(field(r.out, "loop_closure"), "true") << r.out;
+    EXPECT_EQ(field(r.out, "method"), "\"gated\"") << r.out;
+    EXPECT_EQ(field(r.out, "aligned"), c == 0 ? "true" : "false") << r.out;
+    // Rejected with the term that rejected it, or (no overlap at all) no verdict and why.
+    EXPECT_EQ(field(r.out, "rejected_by") == "\"\"" && field(r.out, "reason") == "\"\"", c == 0)
+        << r.out;
+  }
 }

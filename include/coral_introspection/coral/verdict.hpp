@@ -21,17 +21,41 @@ enum class VerdictMethod {
   kClassifier,  // logistic regression on (H_joint, H_sep): 1 CorAl evaluation
   kRelative,    // Q against Q one tolerance away: 1 + 2 x axes evaluations, no training
   kBoth,        // aligned only when both say aligned (same cost as kRelative)
+  kGated,       // relative check, and the absolute gate below passed (same cost as kRelative)
 };
-const char* verdictMethodName(VerdictMethod m);  // "classifier", "relative", "both"
+const char* verdictMethodName(VerdictMethod m);  // "classifier", "relative", "both", "gated"
 bool parseVerdictMethod(const std::string& name, VerdictMethod* m);
+
+// The absolute terms of the gated verdict. The relative check compares Q only with poses
+// one tolerance away, and past the CorAl radius Q falls again: a pose off by several radii,
+// or a false loop closure that ICP converged on (a local minimum of Q), passes it. How
+// aligned pairs of the sensor look in absolute terms does not depend on where the nearest
+// minimum of Q lies: the classifier's p (Eq. 9, on H_joint and H_sep) of such poses is
+// orders of magnitude below that of aligned pairs, and little of the scans overlaps. The
+// gate is loose on purpose (the relative check judges errors of one tolerance): it only
+// has to reject what lies far beyond the tolerance (doc/verdict_every_error.md).
+struct GateConfig {
+  double min_probability = 0.0;  // [-] classifier p at the pose must reach this; 0 = off
+  double min_overlap = 0.0;      // [-] CorAl's overlap fraction at the pose; 0 = off
+  std::string validate() const;  // empty when valid
+};
 
 struct VerdictConfig {
   VerdictMethod method = VerdictMethod::kClassifier;
   ClassifierConfig classifier;  // trained for `tolerance` (coral_train)
   ToleranceConfig tolerance;
   RelativeCheckConfig relative;
+  GateConfig gate;  // method kGated: pairs of the stream (odometry)
+  // Loop-closure candidates (check_alignment with loop_closure, coral_check --loop_closure):
+  // pairs far apart in time, transform from the back end's own matcher. The same gated
+  // verdict with this gate: true revisits look less alike than consecutive scans (viewpoint,
+  // time), false ones are local optima of registration (doc/loop_closure.md).
+  GateConfig loop_closure;
   std::string validate() const;  // empty when valid
 };
+
+// The verdict configuration of a loop-closure request: method kGated with the loop gate.
+VerdictConfig loopClosureVerdict(const VerdictConfig& cfg);
 
 struct AlignmentVerdict {
   CoralResult coral;             // at the given pose
@@ -42,16 +66,21 @@ struct AlignmentVerdict {
   // Classifier p (Eq. 9); relative: relativeProbability(); both: the smaller of the two.
   double probability = 0.0;
   std::string reason;  // why there is no verdict (empty when valid)
+  // valid and misaligned: which term said so, in words ("relative check: ...", "gate:
+  // classifier p 2e-05 < 0.01", ...); empty when aligned.
+  std::string rejected_by;
 };
 
 // A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *
 // (margin - score)). Not calibrated; it orders pairs (ROC) and fills `probability`.
 double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConfig& cfg);
 
-// Combines the two opinions as `method` says (used by judgeAlignment and by evaluation).
+// Combines the opinions as `method` says (used by judgeAlignment and by evaluation); the
+// gate (kGated) reads the classifier's p and `overlap` (CorAl's, at the pose).
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
-                    AlignmentVerdict* out);
+                    AlignmentVerdict* out, const GateConfig& gate = GateConfig(),
+                    double overlap = 1.0);
 
 // CorAl of b (its own sensor frame) moved into a's frame by T_a_b (a CoralPair: b is
 // filtered in its own frame), then the verdict as cfg.method says; per-point entropies in

@@ -53,5 +53,15 @@ bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Re
                    const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
                    std::vector<ScanPair>* pairs, int* unmatched, std::string* error);
 
+// A SLAM-corrected trajectory on the raw log
+// (../shared/data/radish_intel/*_corrected_poses_on_raw.csv: "corrected_idx, raw_flaser_idx,
+// raw_ipc_timestamp, x, y, theta", # comments): the scans it covers in log order, their corrected
+// poses (reference) and the log's raw odometry poses (laser_pose), all as planar isometries. False
+// with *error on an unreadable file or an index outside the log.
+bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
+                       const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                       Isometries* T_world_ref, Isometries* T_world_odom,
+                       std::vector<int>* raw_index, std::string* error);
+
 }  // namespace core
 }  // namespace coral_introspection

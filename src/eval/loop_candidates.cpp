@@ -1,0 +1,152 @@
+#include "coral_introspection/eval/loop_candidates.hpp"
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/transformation_estimation_2D.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+std::string LoopCandidateConfig::validate() const {
+  return Problems()
+      .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
+      .require(min_index_gap >= 1, "min_index_gap", ">= 1", min_index_gap)
+      .require(radius > 0.0, "radius", "> 0 m", radius)
+      .require(lookalike_min_distance > radius, "lookalike_min_distance", "> radius",
+               lookalike_min_distance)
+      .require(max_correspondence > 0.0, "max_correspondence", "> 0 m", max_correspondence)
+      .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
+      .require(false_multiple >= 1.0, "false_multiple", ">= 1", false_multiple)
+      .nested("tolerance", tolerance.validate())
+      .str();
+}
+
+namespace {
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const Points& pts, int dimension) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr c(new pcl::PointCloud<pcl::PointXYZ>);
+  c->reserve(pts.size());
+  for (const Vec3& p : pts)
+    if (p.allFinite())
+      c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                 dimension == 2 ? 0.f : static_cast<float>(p.z())));
+  return c;
+}
+
+// Pairs (i, j), j - i >= gap, spread evenly over those that pass `keep` (every k-th).
+template <class Keep>
+std::vector<std::pair<int, int>> spreadPairs(int n, int gap, int max_pairs, Keep keep) {
+  std::vector<std::pair<int, int>> all;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + gap; j < n; ++j)
+      if (keep(i, j)) all.emplace_back(i, j);
+  if (static_cast<int>(all.size()) <= max_pairs) return all;
+  std::vector<std::pair<int, int>> out;
+  for (int k = 0; k < max_pairs; ++k)
+    out.push_back(all[static_cast<std::size_t>(k) * all.size() / max_pairs]);
+  return out;
+}
+
+}  // namespace
+
+void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
+                   double* r_deg) {
+  const Eigen::Isometry3d d = T_ref.inverse() * T_a_b;
+  *t = d.translation().norm();
+  *r_deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
+}
+
+void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_init,
+                  const LoopCandidateConfig& cfg, LoopCandidate* c) {
+  const auto target = toPcl(a, cfg.dimension);
+  const auto source = toPcl(b, cfg.dimension);
+  pcl::PointCloud<pcl::PointXYZ> aligned;
+  const Eigen::Matrix4f init = T_init.matrix().cast<float>();
+  Eigen::Matrix4f result = init;
+  if (cfg.dimension == 3) {
+    pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
+    gicp.setMaxCorrespondenceDistance(cfg.max_correspondence);
+    gicp.setMaximumIterations(cfg.max_iterations);
+    gicp.setInputTarget(target);
+    gicp.setInputSource(source);
+    gicp.align(aligned, init);
+    c->converged = gicp.hasConverged();
+    result = gicp.getFinalTransformation();
+    c->fitness = gicp.getFitnessScore(cfg.fitness_range);
+  } else {
+    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+    icp.setTransformationEstimation(
+        pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>::Ptr(
+            new pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>));
+    icp.setMaxCorrespondenceDistance(cfg.max_correspondence);
+    icp.setMaximumIterations(cfg.max_iterations);
+    icp.setInputTarget(target);
+    icp.setInputSource(source);
+    icp.align(aligned, init);
+    c->converged = icp.hasConverged();
+    result = icp.getFinalTransformation();
+    c->fitness = icp.getFitnessScore(cfg.fitness_range);
+  }
+  c->T_a_b.matrix() = result.cast<double>();
+  // Re-orthonormalise the float result.
+  c->T_a_b.linear() = Eigen::Quaterniond(c->T_a_b.linear()).normalized().toRotationMatrix();
+}
+
+bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometries& T_world_ref,
+                         const Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                         std::vector<LoopCandidate>* out, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+  const int n = static_cast<int>(scans.size());
+  if (T_world_ref.size() != scans.size() || T_world_odom.size() != scans.size())
+    return fail(error, "scans, reference and odometry poses differ in number");
+  out->clear();
+  auto dist = [&](int i, int j) {
+    return (T_world_ref[i].translation() - T_world_ref[j].translation()).head<2>().norm();
+  };
+  auto label = [&](LoopCandidate* c) {
+    const Eigen::Isometry3d T_ref = T_world_ref[c->a].inverse() * T_world_ref[c->b];
+    relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
+    const ToleranceConfig& t = cfg.tolerance;
+    c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
+    const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
+                          c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
+    return c->is_true || is_false;  // keep unless in the ambiguous band
+  };
+  // (a) revisits within the radius, registered from the odometry's relative pose.
+  for (const auto& [i, j] : spreadPairs(n, cfg.min_index_gap, cfg.max_radius_candidates,
+                                        [&](int i, int j) { return dist(i, j) <= cfg.radius; })) {
+    LoopCandidate c;
+    c.a = i;
+    c.b = j;
+    c.source = "radius";
+    registerPair(scans[i].scan.points, scans[j].scan.points,
+                 T_world_odom[i].inverse() * T_world_odom[j], cfg, &c);
+    if (label(&c)) out->push_back(c);
+  }
+  // (b) different places registered from several headings (translation zero).
+  for (const auto& [i, j] :
+       spreadPairs(n, cfg.min_index_gap, cfg.max_lookalike_pairs,
+                   [&](int i, int j) { return dist(i, j) >= cfg.lookalike_min_distance; }))
+    for (double yaw : cfg.headings_deg) {
+      LoopCandidate c;
+      c.a = i;
+      c.b = j;
+      c.source = "lookalike";
+      c.init_yaw_deg = yaw;
+      Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
+      init.linear() = Eigen::AngleAxisd(yaw * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+      registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
+      if (label(&c)) out->push_back(c);
+    }
+  return true;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

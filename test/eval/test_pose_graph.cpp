@@ -1,0 +1,275 @@
+// Pose-graph optimiser on known answers: a drifted square loop closed by one correct loop
+// edge returns to the truth (2D and 3D), a Huber loss limits the damage of a wrong loop edge,
+// ATE of rigidly moved / locally offset trajectories, TUM / KITTI writer round trips.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/pose_graph.hpp"
+#include "coral_introspection/eval/trajectory_metrics.hpp"
+
+using namespace coral_introspection::core;
+
+namespace {
+
+Eigen::Isometry3d pose(const Vec3& p, double yaw, double roll = 0.0) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(roll, Vec3::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+// 4 * per_side poses on a square of `side` m, 1 pose per side/per_side m, heading along the
+// side; z = z_amp * sin(2 pi k / n), height `z0` added.
+Isometries square(int per_side, double side, double z_amp, double z0 = 0.0) {
+  const Vec3 corner[4] = {{0, 0, 0}, {side, 0, 0}, {side, side, 0}, {0, side, 0}};
+  const Vec3 dir[4] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  const int n = 4 * per_side;
+  Isometries T;
+  for (int k = 0; k < n; ++k) {
+    const int s = k / per_side;
+    Vec3 p = corner[s] + dir[s] * (side * (k % per_side) / per_side);
+    p.z() = z0 + z_amp * std::sin(2.0 * M_PI * k / n);
+    T.push_back(pose(p, s * M_PI / 2.0));
+  }
+  return T;
+}
+
+// Odometry from the true increments with a yaw (and roll) bias per step and 1 cm noise.
+Isometries drift(const Isometries& truth, double yaw_bias, double roll_bias, bool noise_z) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0.0, 0.01);
+  Isometries odo{truth[0]};
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    Eigen::Isometry3d d = truth[k - 1].inverse() * truth[k];
+    d = d * pose(Vec3::Zero(), yaw_bias, roll_bias);
+    d.translation() += Vec3(n(rng), n(rng), noise_z ? n(rng) : 0.0);
+    odo.push_back(odo.back() * d);
+  }
+  return odo;
+}
+
+PoseGraphEdge edge(const Isometries& truth, int from, int to, bool loop) {
+  PoseGraphEdge e;
+  e.from = from;
+  e.to = to;
+  e.T_from_to = truth[from].inverse() * truth[to];
+  e.sigma_translation = 0.01;
+  e.sigma_rotation = 0.002;
+  e.loop = loop;
+  return e;
+}
+
+double angle(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B) {
+  return Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle();
+}
+
+// |whitened residual| of an edge at the given poses (translation and angle of the error).
+double whitened(const PoseGraphEdge& e, const Isometries& T) {
+  const Eigen::Isometry3d E = e.T_from_to.inverse() * T[e.from].inverse() * T[e.to];
+  return std::hypot(E.translation().norm() / e.sigma_translation,
+                    Eigen::AngleAxisd(E.linear()).angle() / e.sigma_rotation);
+}
+
+}  // namespace
+
+TEST(PoseGraph, ValidateRefusesBadConfigs) {
+  PoseGraphConfig cfg;
+  EXPECT_EQ(cfg.validate(), "");
+  cfg.dimension = 4;
+  EXPECT_NE(cfg.validate().find("dimension"), std::string::npos);
+  cfg = PoseGraphConfig();
+  cfg.max_iterations = 0;
+  EXPECT_NE(cfg.validate().find("max_iterations"), std::string::npos);
+  cfg = PoseGraphConfig();
+  cfg.huber_loss = -1.0;
+  EXPECT_NE(cfg.validate().find("huber_loss"), std::string::npos);
+
+  // optimizePoseGraph refuses it too, and bad edges, leaving the poses alone.
+  const Isometries truth = square(10, 10.0, 0.0);
+  Isometries poses = drift(truth, 0.01, 0.0, false);
+  const Isometries before = poses;
+  PoseGraphResult res;
+  cfg.dimension = 4;
+  EXPECT_FALSE(optimizePoseGraph(odometryEdges(poses, 0.05, 0.01), cfg, &poses, &res));
+  EXPECT_NE(res.error.find("dimension"), std::string::npos);
+  std::vector<PoseGraphEdge> bad{edge(truth, 39, 0, true)};
+  bad[0].to = 40;  // one past the last pose
+  EXPECT_FALSE(optimizePoseGraph(bad, PoseGraphConfig(), &poses, &res));
+  EXPECT_NE(res.error.find("edge 0"), std::string::npos) << res.error;
+  bad = {edge(truth, 3, 0, true)};
+  bad[0].sigma_rotation = 0.0;
+  EXPECT_FALSE(optimizePoseGraph(bad, PoseGraphConfig(), &poses, &res));
+  EXPECT_NE(res.error.find("sigma"), std::string::npos) << res.error;
+  for (std::size_t k = 0; k < poses.size(); ++k) EXPECT_TRUE(poses[k].isApprox(before[k]));
+}
+
+TEST(PoseGraph, PlanarSquareLoopRemovesDrift) {
+  // 40 poses at 1 m on a 10 m square, 0.01 rad yaw bias per step (0.39 rad at the end); all
+  // poses at z = 0.3, which the planar graph must keep.
+  const Isometries truth = square(10, 10.0, 0.0, 0.3);
+  Isometries poses = drift(truth, 0.01, 0.0, false);
+  std::vector<PoseGraphEdge> edges = odometryEdges(poses, 0.05, 0.01);
+  ASSERT_EQ(edges.size(), 39u);
+  edges.push_back(edge(truth, 39, 0, true));
+  const double ate_before = absoluteTrajectoryError(poses, truth, 2);
+  const double end_before = (poses.back().translation() - truth.back().translation()).norm();
+
+  PoseGraphConfig cfg;
+  cfg.dimension = 2;
+  PoseGraphResult res;
+  ASSERT_TRUE(optimizePoseGraph(edges, cfg, &poses, &res)) << res.error;
+  const double ate_after = absoluteTrajectoryError(poses, truth, 2);
+  const double end_after = (poses.back().translation() - truth.back().translation()).norm();
+  std::printf("planar: ATE %.3f -> %.3f m, end %.3f -> %.3f m, cost %.1f -> %.3f, %d its\n",
+              ate_before, ate_after, end_before, end_after, res.initial_cost, res.final_cost,
+              res.iterations);
+  EXPECT_TRUE(res.converged);
+  EXPECT_LT(res.final_cost, 1e-3 * res.initial_cost);
+  EXPECT_GT(ate_before, 0.5);                     // the drift is real
+  EXPECT_LT(whitened(edges.back(), poses), 1.0);  // the loop is closed
+  EXPECT_LT(ate_after, 0.2 * ate_before);
+  EXPECT_LT(ate_after, 0.05);
+  EXPECT_LT(end_after, 0.03);
+  EXPECT_LT(angle(poses.back(), truth.back()), 0.005);
+  EXPECT_TRUE(poses[0].isApprox(truth[0]));  // gauge held
+  for (const Eigen::Isometry3d& T : poses) EXPECT_NEAR(T.translation().z(), 0.3, 1e-12);
+}
+
+TEST(PoseGraph, SpatialSquareLoopRemovesDrift) {
+  // The square with +-1 m of z and yaw + roll bias, so the drift leaves the plane.
+  const Isometries truth = square(10, 10.0, 1.0);
+  Isometries poses = drift(truth, 0.01, 0.005, true);
+  std::vector<PoseGraphEdge> edges = odometryEdges(poses, 0.05, 0.01);
+  edges.push_back(edge(truth, 39, 0, true));
+  const double ate_before = absoluteTrajectoryError(poses, truth, 3);
+
+  PoseGraphConfig cfg;  // dimension 3
+  PoseGraphResult res;
+  ASSERT_TRUE(optimizePoseGraph(edges, cfg, &poses, &res)) << res.error;
+  const double ate_after = absoluteTrajectoryError(poses, truth, 3);
+  const double end_after = (poses.back().translation() - truth.back().translation()).norm();
+  std::printf("spatial: ATE %.3f -> %.3f m, end %.3f m, cost %.1f -> %.3f, %d its\n", ate_before,
+              ate_after, end_after, res.initial_cost, res.final_cost, res.iterations);
+  EXPECT_TRUE(res.converged);
+  EXPECT_GT(ate_before, 0.5);
+  EXPECT_LT(whitened(edges.back(), poses), 1.0);
+  EXPECT_LT(ate_after, 0.2 * ate_before);
+  EXPECT_LT(ate_after, 0.05);
+  EXPECT_LT(end_after, 0.03);
+  EXPECT_LT(angle(poses.back(), truth.back()), 0.005);
+  EXPECT_TRUE(poses[0].isApprox(truth[0]));
+}
+
+TEST(PoseGraph, HuberLimitsAWrongLoopEdge) {
+  // The correct loop 39 -> 0 plus a wrong one 0 -> 20 that is 5 m off, both as certain as
+  // one odometry step. Huber bounds the wrong edge's pull at ~1 sigma of force.
+  const Isometries truth = square(10, 10.0, 0.0);
+  const Isometries odo = drift(truth, 0.01, 0.0, false);
+  std::vector<PoseGraphEdge> edges = odometryEdges(odo, 0.05, 0.01);
+  edges.push_back(edge(truth, 39, 0, true));
+  PoseGraphEdge wrong = edge(truth, 0, 20, true);
+  wrong.T_from_to.translation() += Vec3(0.0, 5.0, 0.0);
+  edges.push_back(wrong);
+  for (std::size_t k = 39; k < edges.size(); ++k) {
+    edges[k].sigma_translation = 0.05;
+    edges[k].sigma_rotation = 0.01;
+  }
+
+  double ate[2], wrong_residual[2];
+  for (int robust = 0; robust < 2; ++robust) {
+    PoseGraphConfig cfg;
+    cfg.dimension = 2;
+    cfg.huber_loss = robust ? 1.0 : 0.0;
+    Isometries poses = odo;
+    PoseGraphResult res;
+    ASSERT_TRUE(optimizePoseGraph(edges, cfg, &poses, &res)) << res.error;
+    EXPECT_TRUE(res.converged);
+    ate[robust] = absoluteTrajectoryError(poses, truth, 2);
+    wrong_residual[robust] = whitened(edges.back(), poses);
+  }
+  const double ate_before = absoluteTrajectoryError(odo, truth, 2);
+  std::printf(
+      "wrong loop: ATE drifted %.3f, plain %.3f, huber %.3f m; wrong edge %.1f / %.1f sigma\n",
+      ate_before, ate[0], ate[1], wrong_residual[0], wrong_residual[1]);
+  EXPECT_GT(ate[0], ate_before);        // least squares is bent by the wrong edge...
+  EXPECT_LT(wrong_residual[0], 10.0);   // ...which it mostly accepts,
+  EXPECT_GT(wrong_residual[1], 50.0);   // while Huber rejects it
+  EXPECT_LT(ate[1], 0.25 * ate[0]);     // and stays far less bent,
+  EXPECT_LT(ate[1], 0.5 * ate_before);  // still better than no loop closure at all.
+}
+
+TEST(PoseGraph, AteOfRigidlyMovedTrajectoryIsZero) {
+  const Isometries truth = square(10, 10.0, 1.0);
+  Isometries moved;
+  const Eigen::Isometry3d M = pose(Vec3(3.0, -7.0, 2.0), 1.1, 0.4);
+  for (const Eigen::Isometry3d& T : truth) moved.push_back(M * T);
+  EXPECT_NEAR(absoluteTrajectoryError(moved, truth, 3), 0.0, 1e-9);
+  // Planar: a yaw + (x, y) move of a planar trajectory.
+  const Isometries flat = square(10, 10.0, 0.0);
+  const Eigen::Isometry3d P = pose(Vec3(3.0, -7.0, 0.0), -2.5);
+  moved.clear();
+  for (const Eigen::Isometry3d& T : flat) moved.push_back(P * T);
+  EXPECT_NEAR(absoluteTrajectoryError(moved, flat, 2), 0.0, 1e-9);
+  // A mirrored trajectory is not a planar motion: its ATE must not be 0.
+  moved.clear();
+  for (const Eigen::Isometry3d& T : flat)
+    moved.push_back(pose(Vec3(T.translation().x(), -T.translation().y(), 0), 0));
+  EXPECT_GT(absoluteTrajectoryError(moved, flat, 2), 1.0);
+  EXPECT_TRUE(std::isnan(absoluteTrajectoryError(moved, Isometries(), 2)));
+}
+
+TEST(PoseGraph, AteOfOneOffsetPoseIsKnown) {
+  // 5 poses on the x axis, the middle one moved 1 m sideways: the alignment can only shift
+  // by d/N (no rotation helps by symmetry), so ATE = d sqrt(N - 1) / N = 0.4 m.
+  Isometries ref, est;
+  for (int k = -2; k <= 2; ++k) ref.push_back(pose(Vec3(k, 0.0, 0.0), 0.0));
+  est = ref;
+  est[2].translation().y() += 1.0;
+  EXPECT_NEAR(absoluteTrajectoryError(est, ref, 2), 0.4, 1e-9);
+  EXPECT_NEAR(absoluteTrajectoryError(est, ref, 3), 0.4, 1e-9);
+  est = ref;
+  est[2].translation().z() += 1.0;
+  EXPECT_NEAR(absoluteTrajectoryError(est, ref, 3), 0.4, 1e-9);
+  EXPECT_NEAR(absoluteTrajectoryError(est, ref, 2), 0.0, 1e-12);  // planar ignores z
+}
+
+TEST(PoseGraph, TumAndKittiWritersRoundTrip) {
+  Isometries poses;
+  poses.push_back(pose(Vec3(1.5, -2.25, 0.125), 0.3, -0.2));
+  poses.push_back(pose(Vec3(-40.0, 7.0, 3.0), -2.9, 1.3));
+  poses.push_back(Eigen::Isometry3d::Identity());
+  const std::vector<double> stamps{1600000000.25, 1600000000.5, 1600000001.0};
+  const std::string dir = ::testing::TempDir();
+  std::string err;
+
+  ASSERT_TRUE(writeTumTrajectory(dir + "/pg_traj.tum", stamps, poses, &err)) << err;
+  std::vector<StampedPose> tum;
+  ASSERT_TRUE(readTum(dir + "/pg_traj.tum", &tum, &err)) << err;
+  ASSERT_EQ(tum.size(), poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    EXPECT_NEAR(tum[k].t, stamps[k], 1e-6);
+    EXPECT_LT((tum[k].p - poses[k].translation()).norm(), 1e-6);
+    EXPECT_LT((tum[k].q.toRotationMatrix() - poses[k].linear()).norm(), 1e-7);
+  }
+
+  ASSERT_TRUE(writeKittiPoses(dir + "/pg_traj.kitti", poses, &err)) << err;
+  Isometries kitti;
+  ASSERT_TRUE(readKittiPoses(dir + "/pg_traj.kitti", &kitti, &err)) << err;
+  ASSERT_EQ(kitti.size(), poses.size());
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    EXPECT_LT((kitti[k].matrix() - poses[k].matrix()).norm(), 1e-9);
+
+  err.clear();
+  EXPECT_FALSE(writeTumTrajectory("/nonexistent_dir_pg/t.tum", stamps, poses, &err));
+  EXPECT_FALSE(err.empty());
+  err.clear();
+  EXPECT_FALSE(writeKittiPoses("/nonexistent_dir_pg/t.kitti", poses, &err));
+  EXPECT_FALSE(err.empty());
+  err.clear();
+  EXPECT_FALSE(writeTumTrajectory(dir + "/pg_bad.tum", {0.0}, poses, &err));  // size mismatch
+  EXPECT_FALSE(err.empty());
+}
