@@ -38,6 +38,8 @@ std::string GateConfig::validate() const {
                "in [0, 1), 0 = off", min_probability)
       .require(min_overlap >= 0.0 && min_overlap < 1.0, "min_overlap", "in [0, 1), 0 = off",
                min_overlap)
+      .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
+               relative_margin)
       .str();
 }
 
@@ -55,6 +57,7 @@ VerdictConfig loopClosureVerdict(const VerdictConfig& cfg) {
   VerdictConfig v = cfg;
   v.method = VerdictMethod::kGated;
   v.gate = cfg.loop_closure;
+  if (cfg.loop_closure.relative_margin >= 0.0) v.relative.margin = cfg.loop_closure.relative_margin;
   return v;
 }
 

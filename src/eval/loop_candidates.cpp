@@ -56,6 +56,20 @@ std::vector<std::pair<int, int>> spreadPairs(int n, int gap, int max_pairs, Keep
 
 }  // namespace
 
+LoopCandidateConfig evaluationCandidates(int dimension, const ToleranceConfig& tolerance) {
+  LoopCandidateConfig c;
+  c.dimension = dimension;
+  c.tolerance = tolerance;
+  if (dimension == 3) {
+    c.propose_by_odometry = true;
+  } else {
+    c.min_index_gap = 30;
+    c.init_offset = 0.5;
+    c.init_offset_deg = 10.0;
+  }
+  return c;
+}
+
 void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
                    double* r_deg) {
   const Eigen::Isometry3d d = T_ref.inverse() * T_a_b;
@@ -107,9 +121,11 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometrie
   if (T_world_ref.size() != scans.size() || T_world_odom.size() != scans.size())
     return fail(error, "scans, reference and odometry poses differ in number");
   out->clear();
-  auto dist = [&](int i, int j) {
-    return (T_world_ref[i].translation() - T_world_ref[j].translation()).head<2>().norm();
+  auto distIn = [](const Isometries& T, int i, int j) {
+    return (T[i].translation() - T[j].translation()).head<2>().norm();
   };
+  auto dist = [&](int i, int j) { return distIn(T_world_ref, i, j); };
+  const Isometries& proposal = cfg.propose_by_odometry ? T_world_odom : T_world_ref;
   auto label = [&](LoopCandidate* c) {
     const Eigen::Isometry3d T_ref = T_world_ref[c->a].inverse() * T_world_ref[c->b];
     relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
@@ -117,17 +133,25 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometrie
     c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
     const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
                           c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
-    return c->is_true || is_false;  // keep unless in the ambiguous band
+    return c->is_true || is_false || cfg.keep_ambiguous;  // drop the ambiguous band
   };
   // (a) revisits within the radius, registered from the odometry's relative pose.
-  for (const auto& [i, j] : spreadPairs(n, cfg.min_index_gap, cfg.max_radius_candidates,
-                                        [&](int i, int j) { return dist(i, j) <= cfg.radius; })) {
+  for (const auto& [i, j] :
+       spreadPairs(n, cfg.min_index_gap, cfg.max_radius_candidates,
+                   [&](int i, int j) { return distIn(proposal, i, j) <= cfg.radius; })) {
     LoopCandidate c;
     c.a = i;
     c.b = j;
     c.source = "radius";
-    registerPair(scans[i].scan.points, scans[j].scan.points,
-                 T_world_odom[i].inverse() * T_world_odom[j], cfg, &c);
+    Eigen::Isometry3d init = T_world_odom[i].inverse() * T_world_odom[j];
+    if (cfg.init_offset >= 0.0) {
+      Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
+      d.translation().x() = cfg.init_offset;
+      d.linear() = Eigen::AngleAxisd(cfg.init_offset_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
+                       .toRotationMatrix();
+      init = T_world_ref[i].inverse() * T_world_ref[j] * d;
+    }
+    registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
     if (label(&c)) out->push_back(c);
   }
   // (b) different places registered from several headings (translation zero).

@@ -173,6 +173,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("gate/min_overlap", &o.verdict.gate.min_overlap) &&
       r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
       r.get("loop_closure/min_overlap", &o.verdict.loop_closure.min_overlap) &&
+      r.get("loop_closure/relative_margin", &o.verdict.loop_closure.relative_margin) &&
       r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
       r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&

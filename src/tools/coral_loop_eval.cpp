@@ -1,24 +1,34 @@
-// coral_loop_eval: loop-closure candidates of a real sequence (eval/loop_candidates.hpp)
-// judged by the preset's verdict and its parts, one CSV row per candidate.
+// coral_loop_eval: loop closure end to end on a real sequence with reference poses, the
+// evaluation of doc/loop_closure.md and a template of the consumer:
+//   1. loop candidates (eval/loop_candidates.hpp): revisits and look-alike places, registered
+//      by PCL (GICP / planar ICP), labelled true or false against the reference;
+//   2. each gate of eval/loop_gates.hpp decides every candidate (one CorAl evaluation each);
+//   3. per gate, a keyframe pose graph (odometry edges + the accepted loop edges) optimised
+//      with Ceres (eval/pose_graph.hpp); ATE against the reference poses; trajectories
+//      written as TUM and KITTI files with --out_dir.
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
-//       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv) [--out FILE.csv]
+//       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
+//       [--rows all|even|odd] [--out FILE.csv] [--out_dir DIR]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
-// CARMEN: the corrected poses are the reference, the log's raw odometry the odometry, and
-// every benchmark relation (LOG's .relations) joining scans more than 30 log lines apart is
-// a true candidate as it is ("relation").
+// CARMEN: the corrected poses are the reference, the log's raw odometry the odometry; the
+// benchmark relations joining scans more than 30 log lines apart are further true candidates
+// of the gate table (they join raw scans outside the corrected subset: not in the graph).
+// --rows even|odd: only every other candidate (tuning / held-out halves of the gate table).
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "coral_introspection/eval/carmen_log.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
-#include "coral_introspection/eval/loop_candidates.hpp"
+#include "coral_introspection/eval/loop_gates.hpp"
+#include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
 
@@ -28,17 +38,32 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
-    "--corrected POSES.csv) [--out FILE.csv]";
+    "--corrected POSES.csv) [--rows all|even|odd] [--out FILE.csv] [--out_dir DIR]";
 
 int fail(const std::string& msg) {
   std::fprintf(stderr, "coral_loop_eval: %s\n%s\n", msg.c_str(), kUsage);
   return 2;
 }
 
+// Edge uncertainties of the graph [m], [rad]: keyframe odometry (lidar-inertial) is good to a
+// few cm per keyframe; wheel odometry between corrected CARMEN scans (~1 m apart) to ~0.1 m
+// and a few degrees; a registered loop edge to about the tolerance's tenth. Huber (whitened
+// units) on loop edges, as back ends with robust kernels use (hdl_graph_slam's Huber 1.0).
+struct GraphSettings {
+  double odom_t = 0.05, odom_r = 0.01, loop_t = 0.05, loop_r = 0.01, huber = 1.0;
+};
+
+// A candidate and the one CorAl evaluation every CorAl gate decides from.
+struct Judged {
+  core::LoopCandidate c;
+  core::AlignmentVerdict v;  // method kBoth
+  bool in_graph = false;     // joins two scans of the graph (not a raw-log relation)
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string config, keyframes, carmen, corrected, out_path;
+  std::string config, keyframes, carmen, corrected, out_path, out_dir, rows = "all";
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") {
@@ -57,11 +82,17 @@ int main(int argc, char** argv) {
       corrected = val;
     else if (arg == "--out")
       out_path = val;
+    else if (arg == "--out_dir")
+      out_dir = val;
+    else if (arg == "--rows")
+      rows = val;
     else
       return fail("unknown argument " + arg);
   }
   if (config.empty() || keyframes.empty() == carmen.empty() || carmen.empty() != corrected.empty())
     return fail("--config and either --keyframes or --carmen with --corrected are required");
+  if (rows != "all" && rows != "even" && rows != "odd")
+    return fail("--rows must be all, even or odd (got '" + rows + "')");
   ros_adapters::NodeConfig node;
   core::VerdictConfig verdict;
   std::string err;
@@ -69,80 +100,127 @@ int main(int argc, char** argv) {
     return fail(config + ": " + err);
   online::IntrospectorConfig judge_cfg = node.online;
   judge_cfg.verdict.method = core::VerdictMethod::kBoth;  // every term of the verdict
+  const int dim = node.online.coral.dimension;
 
-  core::LoopCandidateConfig lc;
-  lc.dimension = node.online.coral.dimension;
-  lc.tolerance = verdict.tolerance;
-  std::vector<core::TrainingScan> scans;
+  std::vector<core::TrainingScan> scans, rel_scans;
   core::Isometries ref, odom;
-  std::vector<core::LoopCandidate> candidates;
-  std::vector<core::TrainingScan> rel_scans;
+  std::vector<double> stamps;
   std::vector<core::ScanPair> rel_pairs;
+  GraphSettings graph;
   if (!keyframes.empty()) {
-    core::KeyframeSequenceConfig kc;
-    if (!core::loadKeyframeSequence(keyframes, kc, nullptr, &scans, &ref, &err)) return fail(err);
-    kc.poses_file = "odom_poses.txt";
-    if (!core::readKittiPoses(keyframes + "/" + kc.poses_file, &odom, &err)) return fail(err);
+    if (!core::loadKeyframeSequence(keyframes, core::KeyframeSequenceConfig(), nullptr, &scans,
+                                    &ref, &err) ||
+        !core::readKittiPoses(keyframes + "/odom_poses.txt", &odom, &err))
+      return fail(err);
+    if (odom.size() < scans.size()) return fail("fewer odometry poses than keyframes");
     odom.resize(scans.size());
   } else {
     std::vector<core::CarmenLaserScan> log;
     core::LaserGeometry geometry;
     std::vector<int> raw;
-    if (!core::readCarmenLog(carmen, &log, &err) ||
-        !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err))
-      return fail(err);
-    lc.min_index_gap = 30;
-    std::string rel = carmen;
-    for (const char* ext : {".bz2", ".clf"})
-      if (rel.size() > 4 && rel.compare(rel.size() - 4, 4, ext) == 0) rel.resize(rel.size() - 4);
     std::vector<core::Relation> relations, loops;
-    if (!core::readRelations(rel + ".relations", &relations, &err)) return fail(err);
-    // Loop relations: more than 30 log lines apart (by stamp order in the log).
-    std::vector<double> stamps;
-    for (const auto& l : log) stamps.push_back(l.stamp);
+    std::string rel_file = carmen;
+    for (const char* ext : {".bz2", ".clf"})
+      if (rel_file.size() > 4 && rel_file.compare(rel_file.size() - 4, 4, ext) == 0)
+        rel_file.resize(rel_file.size() - 4);
+    if (!core::readCarmenLog(carmen, &log, &err) ||
+        !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
+        !core::readRelations(rel_file + ".relations", &relations, &err))
+      return fail(err);
+    std::vector<double> log_stamps;
+    for (const auto& l : log) log_stamps.push_back(l.stamp);
     auto line = [&](double t) {
-      return static_cast<int>(std::lower_bound(stamps.begin(), stamps.end(), t - 1e-4) -
-                              stamps.begin());
+      return std::lower_bound(log_stamps.begin(), log_stamps.end(), t - 1e-4) - log_stamps.begin();
     };
     for (const core::Relation& r : relations)
       if (std::abs(line(r.t1) - line(r.t2)) > 30) loops.push_back(r);
     int unmatched = 0;
     if (!core::relationPairs(log, loops, geometry, &rel_scans, &rel_pairs, &unmatched, &err))
       return fail(err);
-    std::cerr << loops.size() << " loop relations (" << unmatched << " unmatched)\n";
+    graph.odom_t = 0.1;
+    graph.odom_r = 0.03;
   }
-  if (!core::buildLoopCandidates(scans, ref, odom, lc, &candidates, &err)) return fail(err);
+  for (const auto& s : scans) stamps.push_back(s.stamp);
 
-  std::ofstream file;
-  if (!out_path.empty()) {
-    file.open(out_path);
-    if (!file) return fail("cannot write " + out_path);
-  }
-  std::ostream& out = out_path.empty() ? std::cout : file;
-  out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
-         "relative_score,relative_misaligned,q,h_joint,h_sep,overlap\n";
-  auto row = [&](const core::Scan& a, const core::Scan& b, const core::LoopCandidate& c) {
-    const core::AlignmentVerdict v = online::judgePair(a, b, c.T_a_b, judge_cfg, false).verdict;
-    out << c.a << ',' << c.b << ',' << c.source << ',' << c.init_yaw_deg << ',' << c.is_true << ','
-        << c.error_translation << ',' << c.error_rotation_deg << ',' << c.converged << ','
-        << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ',' << v.relative.score
-        << ',' << v.relative.misaligned << ',' << v.coral.quality << ',' << v.coral.h_joint << ','
-        << v.coral.h_sep << ',' << v.coral.overlap << "\n";
-  };
-  for (const core::LoopCandidate& c : candidates) row(scans[c.a].scan, scans[c.b].scan, c);
+  // 1. Candidates, 2. one evaluation each.
+  std::vector<core::LoopCandidate> cands;
+  if (!core::buildLoopCandidates(scans, ref, odom,
+                                 core::evaluationCandidates(dim, verdict.tolerance), &cands, &err))
+    return fail(err);
+  std::vector<Judged> judged;
+  for (const core::LoopCandidate& c : cands)
+    judged.push_back(
+        {c, online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, judge_cfg, false).verdict,
+         true});
   for (const core::ScanPair& p : rel_pairs) {
     core::LoopCandidate c;
     c.a = p.a;
     c.b = p.b;
     c.source = "relation";
     c.T_a_b = p.T_a_b;
-    c.is_true = true;
-    c.converged = true;
-    row(rel_scans[p.a].scan, rel_scans[p.b].scan, c);
+    c.is_true = c.converged = true;
+    judged.push_back(
+        {c,
+         online::judgePair(rel_scans[p.a].scan, rel_scans[p.b].scan, p.T_a_b, judge_cfg, false)
+             .verdict,
+         false});
   }
-  int t = 0, f = 0;
-  for (const auto& c : candidates) (c.is_true ? t : f)++;
-  std::cerr << "candidates: " << t << " true, " << f << " false (registered), " << rel_pairs.size()
-            << " relations\n";
+  std::vector<const Judged*> table;  // the rows of the gate table
+  for (std::size_t k = 0; k < judged.size(); ++k)
+    if (rows == "all" || (rows == "even") == (k % 2 == 0)) table.push_back(&judged[k]);
+
+  if (!out_path.empty()) {
+    std::ofstream out(out_path);
+    if (!out) return fail("cannot write " + out_path);
+    out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
+           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap\n";
+    for (const Judged* j : table) {
+      const core::LoopCandidate& c = j->c;
+      const core::AlignmentVerdict& v = j->v;
+      out << c.a << ',' << c.b << ',' << c.source << ',' << c.init_yaw_deg << ',' << c.is_true
+          << ',' << c.error_translation << ',' << c.error_rotation_deg << ',' << c.converged << ','
+          << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
+          << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
+          << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << "\n";
+    }
+  }
+
+  // The gate table, then 3. a pose graph per gate.
+  int n_true = 0, n_false = 0;
+  for (const Judged* j : table) (j->c.is_true ? n_true : n_false)++;
+  std::printf("%s: %zu scans; %d true and %d false loop candidates (%s rows)\n",
+              keyframes.empty() ? carmen.c_str() : keyframes.c_str(), scans.size(), n_true, n_false,
+              rows.c_str());
+  core::PoseGraphConfig pg;
+  pg.dimension = dim;
+  pg.huber_loss = graph.huber;
+  const auto odom_edges = core::odometryEdges(odom, graph.odom_t, graph.odom_r);
+  const double ate_odom = core::absoluteTrajectoryError(odom, ref, dim);
+  std::printf("%-14s %14s %14s %10s %10s\n", "gate", "true accepted", "false accepted", "ATE [m]",
+              "edges");
+  std::printf("%-14s %14s %14s %10.3f %10d\n", "odometry", "-", "-", ate_odom, 0);
+  for (const std::string& gate : core::loopGateNames()) {
+    int ta = 0, fa = 0;
+    for (const Judged* j : table)
+      if (core::loopGateAccepts(gate, j->c, j->v, verdict)) (j->c.is_true ? ta : fa)++;
+    std::vector<core::PoseGraphEdge> edges = odom_edges;
+    for (const Judged* j : table)  // the rows' candidates between scans of the graph
+      if (j->in_graph && core::loopGateAccepts(gate, j->c, j->v, verdict))
+        edges.push_back({j->c.a, j->c.b, j->c.T_a_b, graph.loop_t, graph.loop_r, true});
+    core::Isometries poses = odom;
+    core::PoseGraphResult res;
+    if (!core::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
+    const double ate = core::absoluteTrajectoryError(poses, ref, dim);
+    std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu\n", gate.c_str(), ta, n_true, fa, n_false,
+                ate, edges.size() - odom_edges.size());
+    if (!out_dir.empty()) {
+      std::string name = gate;
+      std::replace(name.begin(), name.end(), '<', '_');
+      std::replace(name.begin(), name.end(), '=', '_');
+      if (!core::writeTumTrajectory(out_dir + "/" + name + ".tum", stamps, poses, &err) ||
+          !core::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err))
+        return fail(err);
+    }
+  }
   return 0;
 }

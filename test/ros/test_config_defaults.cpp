@@ -173,6 +173,7 @@ std::string describe(const NodeConfig& c) {
     << "\ngate.min_overlap = " << c.online.verdict.gate.min_overlap
     << "\nloop_closure.min_probability = " << c.online.verdict.loop_closure.min_probability
     << "\nloop_closure.min_overlap = " << c.online.verdict.loop_closure.min_overlap
+    << "\nloop_closure.relative_margin = " << c.online.verdict.loop_closure.relative_margin
     << "\ntolerance.translation = " << c.online.verdict.tolerance.translation
     << "\ntolerance.rotation_deg = " << c.online.verdict.tolerance.rotation_deg
     << "\npolar_format = " << static_cast<int>(c.polar_format)

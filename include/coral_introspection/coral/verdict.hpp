@@ -37,6 +37,10 @@ bool parseVerdictMethod(const std::string& name, VerdictMethod* m);
 struct GateConfig {
   double min_probability = 0.0;  // [-] classifier p at the pose must reach this; 0 = off
   double min_overlap = 0.0;      // [-] CorAl's overlap fraction at the pose; 0 = off
+  // [-] loop closures only (loopClosureVerdict): the relative check's margin for these pairs;
+  // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
+  // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
+  double relative_margin = -1.0;
   std::string validate() const;  // empty when valid
 };
 

@@ -29,10 +29,20 @@ struct LoopCandidateConfig {
   std::vector<double> headings_deg = {0, 90, 180, 270};  // (b) initial yaw of b in a
   double max_correspondence = 1.5;                       // [m] registration's correspondence gate
   int max_iterations = 50;
-  double fitness_range = 1.0;    // [m] PCL getFitnessScore max range (mean squared NN distance)
-  double false_multiple = 2.0;   // off by >= this many tolerances: a false candidate
-  ToleranceConfig tolerance;     // the preset's: true = within it
-  std::string validate() const;  // empty when valid
+  double fitness_range = 1.0;   // [m] PCL getFitnessScore max range (mean squared NN distance)
+  double false_multiple = 2.0;  // off by >= this many tolerances: a false candidate
+  // A back end's view: revisits proposed within `radius` of the odometry poses (LIO-SAM,
+  // hdl_graph_slam) instead of the reference; candidates between the tolerance and
+  // false_multiple tolerances kept (as false: off by the tolerance or more).
+  bool propose_by_odometry = false;
+  bool keep_ambiguous = false;
+  // Revisits registered from the reference relative pose moved by this much along x and yaw
+  // (a front end whose drift was already corrected) instead of from the odometry; < 0 = from
+  // the odometry. For logs whose raw odometry drifts by metres (CARMEN).
+  double init_offset = -1.0;      // [m]
+  double init_offset_deg = 10.0;  // [deg] with init_offset >= 0
+  ToleranceConfig tolerance;      // the preset's: true = within it
+  std::string validate() const;   // empty when valid
 };
 
 struct LoopCandidate {
@@ -46,6 +56,14 @@ struct LoopCandidate {
   double error_rotation_deg = 0.0;
   bool is_true = false;  // within the tolerance of the reference
 };
+
+// The candidate settings of the evaluation (doc/loop_closure.md, coral_loop_eval,
+// test_loop_closure): keyframe sequences (dimension 3) propose revisits within 3 m of the
+// odometry poses, at least 50 keyframes apart, registered from the odometry; CARMEN logs
+// (dimension 2), whose raw odometry drifts by metres, propose them where the reference says
+// (a working place recognizer), at least 30 corrected scans apart, registered from the
+// reference moved by 0.5 m and 10 deg. Tolerance: the preset's.
+LoopCandidateConfig evaluationCandidates(int dimension, const ToleranceConfig& tolerance);
 
 // Registers b onto a from T_init (b's points into a's frame) and fills T_a_b, converged,
 // fitness. Scans in their own sensor frames.

@@ -1,0 +1,37 @@
+#include "coral_introspection/eval/loop_gates.hpp"
+
+namespace coral_introspection {
+namespace core {
+
+const std::vector<std::string>& loopGateNames() {
+  static const std::vector<std::string> names = {"verdict",      "relative",     "classifier",
+                                                 "fitness<=0.3", "fitness<=0.5", "fitness<=2.5",
+                                                 "oracle",       "all"};
+  return names;
+}
+
+bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
+                     const AlignmentVerdict& v_both, const VerdictConfig& cfg) {
+  if (gate == "oracle") return c.is_true;
+  if (gate == "all") return true;
+  if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
+  if (!v_both.valid) return false;  // no CorAl verdict (no overlap): every CorAl gate rejects
+  AlignmentVerdict v = v_both;
+  if (gate == "verdict") {
+    const VerdictConfig loop = loopClosureVerdict(cfg);
+    // v_both's relative decision used the stream's margin: decide again with the loop's.
+    v.relative.misaligned = v.relative.valid && v.relative.score > loop.relative.margin;
+    combineVerdict(loop.method, v.classifier, v.relative, loop.relative, &v, loop.gate,
+                   v.coral.overlap);
+  } else if (gate == "relative") {
+    combineVerdict(VerdictMethod::kRelative, v.classifier, v.relative, cfg.relative, &v);
+  } else if (gate == "classifier") {
+    combineVerdict(VerdictMethod::kClassifier, v.classifier, v.relative, cfg.relative, &v);
+  } else {
+    return false;
+  }
+  return v.valid && v.aligned;
+}
+
+}  // namespace core
+}  // namespace coral_introspection

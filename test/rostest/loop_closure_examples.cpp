@@ -1,0 +1,104 @@
+// rostest: the loop-closure examples of doc/examples (C++ and rospy) against coral_node with
+// the lidar_3d preset (see loop_closure_examples.test). A true revisit of the hku1 Livox
+// keyframes (109 -> 161, transform from the optimised poses) must be added as an edge, the
+// same pair with the transform 2.4 m off along x rejected.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "support/test_data.hpp"
+
+namespace {
+
+// Line `index` of a KITTI pose file (3x4 row-major T_world_sensor per line).
+bool kittiPose(const std::string& path, int index, Eigen::Isometry3d* T) {
+  std::ifstream in(path);
+  std::string line;
+  for (int i = 0; i <= index; ++i)
+    if (!std::getline(in, line)) return false;
+  std::istringstream ss(line);
+  T->setIdentity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c)
+      if (!(ss >> T->matrix()(r, c))) return false;
+  return true;
+}
+
+void writeTransform(const std::string& path, const Eigen::Isometry3d& T) {
+  std::ofstream out(path);
+  out.precision(12);
+  out << T.matrix() << "\n";
+}
+
+// Runs `cmd`, returns its stdout (stderr goes to the test's log) and exit status.
+std::string run(const std::string& cmd, int* status) {
+  std::string out;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (p == nullptr) return out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p) != nullptr) out += buf;
+  *status = pclose(p);
+  return out;
+}
+
+// Directory of this gtest binary: devel/lib/coral_introspection, where the C++ example is.
+std::string ownDir() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return ".";
+  const std::string exe(buf, n);
+  return exe.substr(0, exe.find_last_of('/'));
+}
+
+TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
+  CORAL_REQUIRE_DATA("hku1_livox_keyframes");
+  Eigen::Isometry3d P109, P161;
+  ASSERT_TRUE(kittiPose(coral_data + "/optimized_poses.txt", 109, &P109));
+  ASSERT_TRUE(kittiPose(coral_data + "/optimized_poses.txt", 161, &P161));
+  const Eigen::Isometry3d T_a_b = P109.inverse() * P161;  // the optimised (true) revisit
+  Eigen::Isometry3d T_off = T_a_b;
+  T_off.translation().x() += 2.4;
+  const std::string t_true = coral_test::tempPath("loop_true", ".txt");
+  const std::string t_off = coral_test::tempPath("loop_off", ".txt");
+  writeTransform(t_true, T_a_b);
+  writeTransform(t_off, T_off);
+  ASSERT_TRUE(ros::service::waitForService("/check_alignment", ros::Duration(30.0)));
+
+  const std::string cpp = ownDir() + "/coral_loop_closure_example";
+  ASSERT_EQ(access(cpp.c_str(), X_OK), 0) << cpp << " not built (make coral_loop_closure_example)";
+  // The examples' interpreter: the system one, which has rospy (as in test_config_defaults).
+  const std::string py =
+      std::string("/usr/bin/python3 ") + CORAL_SOURCE_DIR + "/doc/examples/loop_closure_gate.py";
+  const std::string pair =
+      " --a " + coral_data + "/Scans/000109.pcd --b " + coral_data + "/Scans/000161.pcd";
+  for (const std::string& exe : {cpp, py}) {
+    int status = -1;
+    std::string out = run(exe + pair + " --transform_file " + t_true, &status);
+    EXPECT_EQ(status, 0) << exe;
+    EXPECT_EQ(out, "edge added\n") << exe;
+    out = run(exe + pair + " --transform_file " + t_off, &status);
+    EXPECT_EQ(status, 0) << exe;
+    EXPECT_EQ(out.rfind("edge rejected: ", 0), 0u) << exe << ": " << out;
+    EXPECT_GT(out.size(), std::string("edge rejected: \n").size()) << exe << ": no reason";
+    std::printf("%s (2.4 m off): %s", exe.c_str(), out.c_str());
+  }
+  std::remove(t_true.c_str());
+  std::remove(t_off.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "loop_closure_examples_test");
+  ros::NodeHandle nh;
+  const int r = RUN_ALL_TESTS();
+  ros::shutdown();
+  return r;
+}
