@@ -3,6 +3,7 @@
 #include <bzlib.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -161,6 +162,23 @@ bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Re
     pairs->push_back({a, b, fwd ? r.T_1_2 : r.T_1_2.inverse()});
   }
   return true;
+}
+
+bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,
+                       const LaserGeometry& geometry, int min_lines,
+                       std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,
+                       std::string* error) {
+  std::vector<Relation> relations, loops;
+  if (!readRelations(relations_path, &relations, error)) return false;
+  std::vector<double> stamps;  // log order is time order
+  for (const CarmenLaserScan& l : log) stamps.push_back(l.stamp);
+  auto line = [&](double t) {
+    return std::lower_bound(stamps.begin(), stamps.end(), t - 1e-4) - stamps.begin();
+  };
+  for (const Relation& r : relations)
+    if (std::abs(line(r.t1) - line(r.t2)) > min_lines) loops.push_back(r);
+  int unmatched = 0;
+  return relationPairs(log, loops, geometry, scans, pairs, &unmatched, error);
 }
 
 namespace {

@@ -40,6 +40,24 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const Points& pts, int dimension) {
   return c;
 }
 
+// Runs a PCL registration (GICP or ICP, both pcl::Registration) from T_init; fills converged
+// and fitness, returns the final transformation.
+Eigen::Matrix4f align(pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>* reg,
+                      const pcl::PointCloud<pcl::PointXYZ>::Ptr& target,
+                      const pcl::PointCloud<pcl::PointXYZ>::Ptr& source,
+                      const Eigen::Isometry3d& T_init, const LoopCandidateConfig& cfg,
+                      LoopCandidate* c) {
+  reg->setMaxCorrespondenceDistance(cfg.max_correspondence);
+  reg->setMaximumIterations(cfg.max_iterations);
+  reg->setInputTarget(target);
+  reg->setInputSource(source);
+  pcl::PointCloud<pcl::PointXYZ> aligned;
+  reg->align(aligned, T_init.matrix().cast<float>());
+  c->converged = reg->hasConverged();
+  c->fitness = reg->getFitnessScore(cfg.fitness_range);
+  return reg->getFinalTransformation();
+}
+
 // Pairs (i, j), j - i >= gap, spread evenly over those that pass `keep` (every k-th).
 template <class Keep>
 std::vector<std::pair<int, int>> spreadPairs(int n, int gap, int max_pairs, Keep keep) {
@@ -64,6 +82,8 @@ LoopCandidateConfig evaluationCandidates(int dimension, const ToleranceConfig& t
     c.propose_by_odometry = true;
   } else {
     c.min_index_gap = 30;
+    c.max_radius_candidates = 300;  // 2D registration is cheap: a graph with many loops
+    c.max_lookalike_pairs = 60;
     c.init_offset = 0.5;
     c.init_offset_deg = 10.0;
   }
@@ -81,32 +101,16 @@ void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_i
                   const LoopCandidateConfig& cfg, LoopCandidate* c) {
   const auto target = toPcl(a, cfg.dimension);
   const auto source = toPcl(b, cfg.dimension);
-  pcl::PointCloud<pcl::PointXYZ> aligned;
-  const Eigen::Matrix4f init = T_init.matrix().cast<float>();
-  Eigen::Matrix4f result = init;
+  Eigen::Matrix4f result;
   if (cfg.dimension == 3) {
     pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
-    gicp.setMaxCorrespondenceDistance(cfg.max_correspondence);
-    gicp.setMaximumIterations(cfg.max_iterations);
-    gicp.setInputTarget(target);
-    gicp.setInputSource(source);
-    gicp.align(aligned, init);
-    c->converged = gicp.hasConverged();
-    result = gicp.getFinalTransformation();
-    c->fitness = gicp.getFitnessScore(cfg.fitness_range);
+    result = align(&gicp, target, source, T_init, cfg, c);
   } else {
     pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
     icp.setTransformationEstimation(
         pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>::Ptr(
             new pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>));
-    icp.setMaxCorrespondenceDistance(cfg.max_correspondence);
-    icp.setMaximumIterations(cfg.max_iterations);
-    icp.setInputTarget(target);
-    icp.setInputSource(source);
-    icp.align(aligned, init);
-    c->converged = icp.hasConverged();
-    result = icp.getFinalTransformation();
-    c->fitness = icp.getFitnessScore(cfg.fitness_range);
+    result = align(&icp, target, source, T_init, cfg, c);
   }
   c->T_a_b.matrix() = result.cast<double>();
   // Re-orthonormalise the float result.

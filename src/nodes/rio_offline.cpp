@@ -6,22 +6,110 @@
 // frame) and prints frames processed, time per frame, the real-time factor and the loop
 // end-point error (meaningful for a recording that ends where it starts, like the TI bag).
 // Topics and the radar time source come from the YAML's `ros` group (ros/rio_input.hpp).
+//
+// Refuse, don't guess: input that cannot give a trajectory (a config error, a topic missing
+// from the bag, scans without the radial-velocity field, IMU units that cannot be right,
+// IMU and radar clocks that do not overlap, no odometry at all, an odometry that mostly
+// reset) ends with exit status 1 and the reason on stderr; no trajectory and no end-point
+// figure are written then. Usage errors: exit status 2.
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "coral_introspection/eval/rio_run.hpp"
+#include "coral_introspection/rio/config_keys.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
 
 using namespace coral_introspection;
+
+namespace {
+
+// Empty when the bag has `topic` with message type `type`; else why not (the setting to
+// change, the nearest topic of that type).
+std::string checkTopic(const std::map<std::string, std::string>& topics, const std::string& topic,
+                       const std::string& type, const std::string& setting) {
+  const auto it = topics.find(topic);
+  if (it != topics.end())
+    return it->second == type
+               ? ""
+               : "topic " + topic + " (ros/" + setting + ") is " + it->second + ", not " + type;
+  std::vector<std::string> same_type;
+  for (const auto& [name, t] : topics)
+    if (t == type) same_type.push_back(name);
+  std::string list;
+  for (const std::string& n : same_type) list += (list.empty() ? "" : ", ") + n;
+  return "the bag has no topic '" + topic + "' (ros/" + setting + ")" +
+         rio::didYouMean(topic, same_type) + "; its " + type +
+         " topics: " + (list.empty() ? "none" : list);
+}
+
+std::string checkTopics(rosbag::Bag& bag, const ros_adapters::RioInputConfig& in) {
+  rosbag::View all(bag);
+  if (all.size() == 0) return "the bag has no messages";
+  std::map<std::string, std::string> topics;
+  for (const rosbag::ConnectionInfo* c : all.getConnections()) topics[c->topic] = c->datatype;
+  std::string why = checkTopic(topics, in.imu_topic, "sensor_msgs/Imu", "imu_topic");
+  if (why.empty())
+    why = checkTopic(topics, in.radar_topic, "sensor_msgs/PointCloud2", "radar_topic");
+  if (why.empty() && in.time_source == "trigger")
+    why = checkTopic(topics, in.trigger_topic, "std_msgs/Header", "trigger_topic");
+  return why;
+}
+
+// Time span of one sensor's stamps.
+struct Span {
+  long n = 0;
+  double first = 0.0, last = 0.0;
+  void add(double t) {
+    first = n++ == 0 ? t : std::min(first, t);
+    last = std::max(last, t);
+  }
+};
+
+// After the run: why its trajectory is not one ("" when it is).
+std::string judgeRun(const Span& imu, const Span& radar, const core::RioRun& run,
+                     const std::string& last_input_error) {
+  const std::string why = last_input_error.empty() ? "" : " (last: " + last_input_error + ")";
+  if (imu.n == 0) return "no usable IMU sample" + why;
+  if (radar.n == 0) return "no radar frame" + why;
+  // Half the radar's span without IMU: the clocks differ (or the stamps are not times).
+  const double overlap = std::min(imu.last, radar.last) - std::max(imu.first, radar.first);
+  if (overlap < 0.5 * (radar.last - radar.first))
+    return "the IMU and radar clocks do not overlap: IMU stamps " + std::to_string(imu.first) +
+           " .. " + std::to_string(imu.last) + " s, radar frames " + std::to_string(radar.first) +
+           " .. " + std::to_string(radar.last) + " s";
+  long tracked = 0, resets = 0;
+  std::string last_message;
+  for (const rio::FrameReport& r : run.reports()) {
+    tracked += r.status == rio::FrameStatus::kTracking;
+    resets += r.status == rio::FrameStatus::kReset;
+    if (!r.message.empty()) last_message = r.message;
+  }
+  if (tracked == 0)
+    return "no odometry: none of the " + std::to_string(run.frames()) +
+           " radar frames was tracked (last: " + last_message + ")";
+  if (2 * resets > run.frames())
+    return "the odometry reset on " + std::to_string(resets) + " of " +
+           std::to_string(run.frames()) + " frames (last: " + last_message + ")";
+  return "";
+}
+
+int refuse(const std::string& why) {
+  std::cerr << "rio_offline: refused: " << why << "; no trajectory written\n";
+  return 1;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   std::string bag_path, config, output, report;
@@ -54,8 +142,7 @@ int main(int argc, char** argv) {
   try {
     root = YAML::LoadFile(config);
   } catch (const YAML::Exception& e) {
-    std::cerr << "rio_offline: cannot read " << config << ": " << e.what() << "\n";
-    return 1;
+    return refuse("cannot read " + config + ": " + e.what());
   }
   for (const std::string& o : overrides)
     if (!rio::applyOverride(root, o, &err)) {
@@ -64,21 +151,18 @@ int main(int argc, char** argv) {
     }
   rio::RioConfig cfg;
   ros_adapters::RioInputConfig in_cfg;
-  std::vector<std::string> warnings;
-  if (!rio::loadRioConfig(root, &cfg, &err, &warnings, {"ros"}) ||
-      !ros_adapters::loadRioInputConfig(root["ros"], &in_cfg, &err)) {
-    std::cerr << "rio_offline: invalid config: " << err << "\n";
-    return 1;
-  }
-  for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
+  if (!rio::loadRioConfig(root, &cfg, &err, {{"ros"}}) ||
+      !ros_adapters::loadRioInputConfig(root["ros"], &in_cfg, &err))
+    return refuse("invalid config " + config + ": " + err);
 
   rosbag::Bag bag;
   try {
     bag.open(bag_path, rosbag::bagmode::Read);
   } catch (const std::exception& e) {
-    std::cerr << "rio_offline: cannot open " << bag_path << ": " << e.what() << "\n";
-    return 1;
+    return refuse("cannot open " + bag_path + ": " + e.what());
   }
+  const std::string topic_problem = checkTopics(bag, in_cfg);
+  if (!topic_problem.empty()) return refuse(bag_path + ": " + topic_problem);
   std::vector<std::string> topics = {in_cfg.imu_topic, in_cfg.radar_topic};
   if (!in_cfg.trigger_topic.empty()) topics.push_back(in_cfg.trigger_topic);
   rosbag::View view(bag, rosbag::TopicQuery(topics));
@@ -86,7 +170,19 @@ int main(int argc, char** argv) {
   rio::Estimator est(cfg);
   ros_adapters::RioInput input(in_cfg);
   core::RioRun run;
-  double t_first = 0.0, t_last = 0.0;
+  Span imu_span, radar_span;
+  // Newest IMU stamp minus the frame time when a frame completes: the radar's latency on a
+  // common clock (TI bag: 0.12 s); far from any latency it shows a clock offset, which the
+  // estimator does not estimate.
+  std::vector<double> arrival_lag;
+  std::string last_input_error, refusal;
+  auto feed = [&](std::vector<rio::RadarFrame> frames) {
+    for (rio::RadarFrame& f : frames) {
+      radar_span.add(f.t);
+      if (imu_span.n > 0) arrival_lag.push_back(imu_span.last - f.t);
+      run.add(est.addRadar(std::move(f)));
+    }
+  };
   long messages = 0;
   const auto t0 = std::chrono::steady_clock::now();
   for (const rosbag::MessageInstance& m : view) {
@@ -94,32 +190,50 @@ int main(int argc, char** argv) {
       if (m.getTopic() == in_cfg.imu_topic) {
         sensor_msgs::Imu::ConstPtr msg = m.instantiate<sensor_msgs::Imu>();
         rio::ImuSample s;
-        if (!msg || !input.imu(*msg, &s, &err)) continue;
-        if (t_first == 0.0) t_first = s.t;
-        t_last = s.t;
+        if (!msg || !input.imu(*msg, &s, &err)) {
+          last_input_error = err;
+          continue;
+        }
+        imu_span.add(s.t);
         run.add(est.addImu(s));
       } else if (m.getTopic() == in_cfg.radar_topic) {
         sensor_msgs::PointCloud2::ConstPtr msg = m.instantiate<sensor_msgs::PointCloud2>();
         if (!msg) continue;
-        for (rio::RadarFrame& f : input.radar(*msg, &err)) run.add(est.addRadar(std::move(f)));
+        feed(input.radar(*msg, &err));
+        if (!err.empty()) last_input_error = err;
+        // A driver gives the field in every scan or in none: the first missing one decides.
+        if (input.counters().no_velocity_field > 0) refusal = in_cfg.radar_topic + ": " + err;
       } else if (in_cfg.time_source == "trigger" && m.getTopic() == in_cfg.trigger_topic) {
         std_msgs::Header::ConstPtr msg = m.instantiate<std_msgs::Header>();
         if (!msg) continue;
-        for (rio::RadarFrame& f : input.trigger(*msg)) run.add(est.addRadar(std::move(f)));
+        feed(input.trigger(*msg));
       }
       ++messages;
     } catch (const std::exception& e) {  // a malformed bag message: skip it
       std::cerr << "rio_offline: skipped a message on " << m.getTopic() << ": " << e.what() << "\n";
     }
+    if (refusal.empty()) refusal = est.inputError();
+    if (!refusal.empty()) break;
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << "messages read: " << messages << "\n" << run.summary(wall, t_last - t_first);
+  std::cout << "messages read: " << messages << "\n"
+            << run.summary(wall, imu_span.last - imu_span.first);
   const rio::RioCounters& c = est.counters();
   const ros_adapters::RioInputCounters& ic = input.counters();
   std::cout << "counters: failed solves " << c.failed_solves << ", imu gaps " << c.imu_gaps
-            << ", time jumps " << c.time_jumps << ", empty scans " << c.empty_scans
-            << ", scans without Doppler " << c.no_doppler << ", unmatched scans "
+            << " (bridged with Doppler " << c.gap_bridged << "), time jumps " << c.time_jumps
+            << ", empty scans " << c.empty_scans << ", scans without Doppler "
+            << c.no_doppler + ic.no_velocity_field << ", unmatched scans "
             << ic.unmatched_scans + input.waitingScans() << "\n";
+  if (!arrival_lag.empty()) {
+    std::nth_element(arrival_lag.begin(), arrival_lag.begin() + arrival_lag.size() / 2,
+                     arrival_lag.end());
+    std::cout << "radar frame time vs newest IMU stamp at arrival: median "
+              << arrival_lag[arrival_lag.size() / 2] << " s (radar latency; far from it: a clock "
+              << "offset)\n";
+  }
+  if (refusal.empty()) refusal = judgeRun(imu_span, radar_span, run, last_input_error);
+  if (!refusal.empty()) return refuse(refusal);
   if (!core::writeTum(output, run.trajectory(), &err) ||
       (!report.empty() && !run.writeReports(report, &err))) {
     std::cerr << "rio_offline: " << err << "\n";

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <set>
 
+#include "coral_introspection/coral/validation.hpp"
+#include "coral_introspection/rio/config_keys.hpp"
+
 namespace coral_introspection {
 namespace rio {
 
@@ -45,21 +48,8 @@ class Reader {
       return typeError(path, ("a list of " + std::to_string(n) + " numbers").c_str());
     return get(path, v, "a list of numbers");
   }
-  void unknownKeys(const std::vector<std::string>& other, std::vector<std::string>* out) const {
-    if (!root_.IsMap()) return;
-    for (auto it = root_.begin(); it != root_.end(); ++it) {
-      const std::string key = it->first.as<std::string>("");
-      if (std::find(other.begin(), other.end(), key) != other.end()) continue;
-      if (it->second.IsMap()) {
-        for (auto jt = it->second.begin(); jt != it->second.end(); ++jt) {
-          const std::string sub = key + "/" + jt->first.as<std::string>("");
-          if (!used_.count(sub)) out->push_back("unknown parameter " + sub + " (ignored)");
-        }
-      } else if (!used_.count(key)) {
-        out->push_back("unknown parameter " + key + " (ignored)");
-      }
-    }
-  }
+  // Every key asked for so far ("group/key" or "key").
+  std::vector<std::string> paths() const { return {used_.begin(), used_.end()}; }
   const std::string& error() const { return error_; }
 
  private:
@@ -175,21 +165,48 @@ const char* toString(UncertaintyMode m) {
   return "?";
 }
 
-bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
-                   std::vector<std::string>* warnings,
-                   const std::vector<std::string>& other_groups) {
+namespace {
+
+bool load(const YAML::Node& root, RioConfig* cfg, std::string* error, const RioConfigRules& rules) {
+  using core::fail;
+  if (!root.IsDefined() || root.IsNull()) return fail(error, "the config is empty");
+  if (!root.IsMap())
+    return fail(error, "the config must be a map of groups (imu, extrinsics, ...)");
+  // The valid keys are the ones readAll asks for (from an empty tree nothing fails).
+  Reader probe{YAML::Node()};
+  RioConfig defaults;
+  readAll(probe, &defaults);
+  const std::string unknown = unknownKeys(root, probe.paths(), rules.other_groups);
+  if (!unknown.empty()) return fail(error, unknown);
+  if (rules.require_extrinsics)
+    for (const char* key : {"translation", "rotation"}) {
+      const YAML::Node g = root["extrinsics"];  // const []: invalid (not null) when absent
+      if (!g.IsDefined() || !g.IsMap() || !g[key] || g[key].IsNull())
+        return fail(error, std::string("extrinsics/") + key +
+                               " is required: the radar pose in the IMU (body) frame, "
+                               "translation [x, y, z] m and rotation [qx, qy, qz, qw] (no "
+                               "default: identity would be a guess)");
+    }
+  Reader r(root);
+  if (!readAll(r, cfg))
+    return fail(error, r.error().empty() ? "parameter uncertainty/mode must be one of full, "
+                                           "none, no_range, no_bearing"
+                                         : r.error());
   std::string dummy;
   if (error == nullptr) error = &dummy;
-  Reader r(root);
-  if (!readAll(r, cfg)) {
-    *error = r.error().empty()
-                 ? "parameter uncertainty/mode must be one of full, none, no_range, no_bearing"
-                 : r.error();
-    return false;
-  }
-  if (warnings) r.unknownKeys(other_groups, warnings);
   *error = cfg->validate();
   return error->empty();
+}
+
+}  // namespace
+
+bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
+                   const RioConfigRules& rules) {
+  try {
+    return load(root, cfg, error, rules);
+  } catch (const YAML::Exception& e) {  // a malformed tree the checks above did not foresee
+    return core::fail(error, std::string("config: ") + e.what());
+  }
 }
 
 bool applyOverride(YAML::Node& root, const std::string& assignment, std::string* error) {
@@ -220,8 +237,7 @@ bool applyOverride(YAML::Node& root, const std::string& assignment, std::string*
 }
 
 bool loadRioConfigFile(const std::string& path, RioConfig* cfg, std::string* error,
-                       std::vector<std::string>* warnings,
-                       const std::vector<std::string>& other_groups) {
+                       const RioConfigRules& rules) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -229,7 +245,7 @@ bool loadRioConfigFile(const std::string& path, RioConfig* cfg, std::string* err
     if (error) *error = "cannot read " + path + ": " + e.what();
     return false;
   }
-  return loadRioConfig(root, cfg, error, warnings, other_groups);
+  return loadRioConfig(root, cfg, error, rules);
 }
 
 }  // namespace rio

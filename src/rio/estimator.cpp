@@ -22,7 +22,7 @@ const char* toString(FrameStatus s) {
   return "?";
 }
 
-Estimator::Estimator(const RioConfig& cfg) : cfg_(cfg), init_(cfg) {
+Estimator::Estimator(const RioConfig& cfg) : cfg_(cfg), init_(cfg), imu_check_(cfg) {
   if (cfg_.solver.loss == "huber")
     loss_ = std::make_shared<ceres::HuberLoss>(cfg_.solver.loss_scale);
   else if (cfg_.solver.loss == "cauchy")
@@ -33,6 +33,8 @@ Estimator::~Estimator() = default;
 
 void Estimator::reset() {
   init_.reset();
+  imu_check_.reset();
+  input_error_.clear();
   imu_.clear();
   pending_.clear();
   window_.clear();
@@ -164,6 +166,12 @@ FrameReport Estimator::process(const RadarFrame& f) {
   ++counters_.frames;
   FrameReport report;
   report.t = f.t;
+  if (!input_error_.empty()) {
+    ++counters_.rejected_frames;
+    report.status = FrameStatus::kRejected;
+    report.message = input_error_;
+    return report;
+  }
   if (f.points.empty()) ++counters_.empty_scans;
   if (!f.points.empty() && f.radial_velocity.size() != f.points.size()) ++counters_.no_doppler;
 
@@ -174,6 +182,7 @@ FrameReport Estimator::process(const RadarFrame& f) {
 
   if (window_.empty()) {  // initialisation from a static start
     const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
+    if (have_imu && refuseImplausibleImu(interval, fe.standing, &report)) return report;
     NavState x;
     bool moving = false;
     const Vec3* v = fe.doppler_fit ? &fe.v_radar : nullptr;
@@ -214,18 +223,7 @@ FrameReport Estimator::process(const RadarFrame& f) {
   const WindowFrame& prev = *window_.back();
   NavState prev_state = prev.state();
   if (!have_imu || gap > cfg_.health.max_imu_gap) {
-    ++counters_.imu_gaps;
-    const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
-    NavState x = prev_state;
-    x.t = f.t;
-    double sigma_v = 1.0;
-    if (fe.doppler_fit) {
-      x.v = x.q * (cfg_.extrinsics.R * fe.v_radar);
-      sigma_v = 0.2;
-    }
-    report.status = FrameStatus::kReset;
-    softReset(x, sigma_v, "IMU gap of " + std::to_string(gap) + " s before the radar frame",
-              &report);
+    bridgeImuGap(f, have_imu ? gap : f.t - prev.t, &report);
     return report;
   }
 
@@ -241,6 +239,7 @@ FrameReport Estimator::process(const RadarFrame& f) {
   w->omega = interval.back().gyro;
   const Vec3 v_pred = radarVelocity(pred, w->omega);
   const FrontEndResult fe = processRadarFrame(f, cfg_, &v_pred);
+  if (refuseImplausibleImu(interval, fe.standing, &report)) return report;
   for (int k : fe.static_points) w->static_points.push_back(fe.points[k]);
   w->standing = cfg_.zero_velocity.enabled && fe.standing;
   const ImuStats st = imuStats(interval);
@@ -299,6 +298,43 @@ FrameReport Estimator::process(const RadarFrame& f) {
   ++counters_.tracked;
   slide();
   return report;
+}
+
+bool Estimator::refuseImplausibleImu(const std::vector<ImuSample>& interval, bool standing,
+                                     FrameReport* report) {
+  input_error_ = imu_check_.addFrame(interval, standing);
+  if (input_error_.empty()) return false;
+  ++counters_.rejected_frames;
+  report->status = FrameStatus::kRejected;
+  report->message = input_error_;
+  return true;
+}
+
+void Estimator::bridgeImuGap(const RadarFrame& f, double gap, FrameReport* report) {
+  // No IMU over the interval: no preintegration, so the window restarts at this frame
+  // (softReset). Its position is not the previous one (a moving radar would leave frozen
+  // poses behind): the trapezoid of the previous velocity and the Doppler velocity of this
+  // frame, or the previous velocity alone without a Doppler fit. Attitude and biases are
+  // held (no gyro); the radar-to-body lever-arm term needs the rate and is left out.
+  ++counters_.imu_gaps;
+  const NavState prev = window_.back()->state();
+  const double dt = f.t - prev.t;
+  const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
+  NavState x = prev;
+  x.t = f.t;
+  double sigma_v = 1.0;
+  std::string how = "constant velocity (no Doppler fit)";
+  if (fe.doppler_fit) {
+    x.v = prev.q * (cfg_.extrinsics.R * fe.v_radar);
+    sigma_v = 0.2;
+    how = "the Doppler velocity";
+    ++counters_.gap_bridged;
+  }
+  x.p = prev.p + 0.5 * (prev.v + x.v) * dt;
+  report->status = FrameStatus::kReset;
+  softReset(x, sigma_v,
+            "IMU gap of " + std::to_string(gap) + " s before the radar frame: bridged with " + how,
+            report);
 }
 
 void Estimator::installStatePrior(const NavState& s, const Vec15& sigma) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "coral_introspection/coral/validation.hpp"
+#include "coral_introspection/rio/config_keys.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
 namespace coral_introspection {
@@ -38,6 +39,16 @@ bool extrinsicsFromTransform(const geometry_msgs::Transform& body_radar, rio::Ex
 }
 
 bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error) {
+  if (node && !node.IsNull() && !node.IsMap()) {
+    *error = "group ros must be a map of parameters";
+    return false;
+  }
+  // A misspelt key would leave a topic at its default: an error, as in the estimator's groups.
+  *error = rio::unknownKeys(node,
+                            {"imu_topic", "radar_topic", "trigger_topic", "time_source",
+                             "velocity_field", "trigger_seq_offset"},
+                            {}, "ros/");
+  if (!error->empty()) return false;
   try {
     if (node && node.IsMap()) {
       auto get = [&](const char* key, auto* value) {
@@ -76,19 +87,21 @@ std::vector<rio::RadarFrame> RioInput::radar(const sensor_msgs::PointCloud2& msg
   error->clear();
   rio::RadarFrame f;
   f.t = msg.header.stamp.toSec();
-  if (hasField(msg, cfg_.velocity_field)) {
-    if (!cloudToPoints(msg, &f.points, error, nullptr, cfg_.velocity_field, &f.radial_velocity)) {
-      ++counters_.bad_clouds;
-      return {};
-    }
-  } else {
+  if (!hasField(msg, cfg_.velocity_field)) {
+    // Without Doppler there are no static points and no ego velocity: the odometry would be
+    // the IMU's dead reckoning. Refused (counted) rather than tracked as if it were radar.
     ++counters_.no_velocity_field;
-    if (!cloudToPoints(msg, &f.points, error)) {
-      ++counters_.bad_clouds;
-      return {};
-    }
+    std::string fields;
+    for (const sensor_msgs::PointField& pf : msg.fields)
+      fields += (fields.empty() ? "" : ", ") + pf.name;
     *error = "radar cloud has no radial-velocity field '" + cfg_.velocity_field +
-             "': points used without Doppler";
+             "' (fields: " + (fields.empty() ? "none" : fields) +
+             "; set ros/velocity_field): scan dropped";
+    return {};
+  }
+  if (!cloudToPoints(msg, &f.points, error, nullptr, cfg_.velocity_field, &f.radial_velocity)) {
+    ++counters_.bad_clouds;
+    return {};
   }
   if (!usesTrigger()) {
     if (!(f.t > 0.0)) {

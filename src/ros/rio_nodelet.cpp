@@ -6,6 +6,7 @@
 
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/conversions.hpp"
@@ -32,6 +33,42 @@ void RioNodelet::guarded(const char* what, F&& f) noexcept {
   }
 }
 
+std::string RioNodelet::loadConfig(const ros::NodeHandle& pnh, const std::string& config_file,
+                                   bool publish_extrinsics_tf, rio::RioConfig* cfg,
+                                   ros_adapters::RioInputConfig* in_cfg) {
+  if (config_file.empty()) return "parameter ~config_file is required (a rio YAML file)";
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(config_file);
+  } catch (const YAML::Exception& e) {
+    return "cannot read config_file " + config_file + ": " + e.what();
+  }
+  // With extrinsics from TF the file need not (and should not) give them.
+  rio::RioConfigRules rules{{"ros"}, extrinsics_source_ == "config"};
+  std::string err;
+  if (!(rio::loadRioConfig(root, cfg, &err, rules) &&
+        ros_adapters::loadRioInputConfig(root["ros"], in_cfg, &err)))
+    return "invalid config " + config_file + ": " + err;
+  std::string time_source;  // optional override of the config's ros/time_source
+  if (pnh.getParam("time_source", time_source)) {
+    in_cfg->time_source = time_source;
+    if (!(err = in_cfg->validate()).empty()) return "~time_source: " + err;
+  }
+  if (odom_frame_.empty() || base_frame_.empty() || max_path_length_ < 1)
+    return "odom_frame and base_frame must be set and max_path_length >= 1";
+  if (extrinsics_source_ != "config" && extrinsics_source_ != "tf")
+    return "extrinsics_source must be config or tf, got '" + extrinsics_source_ + "'";
+  if (imu_frame_.empty() || radar_frame_.empty()) return "imu_frame and radar_frame must be set";
+  if (extrinsics_source_ == "tf" && publish_extrinsics_tf)
+    return "publish_extrinsics_tf needs extrinsics_source config (with tf they come from TF)";
+  if (extrinsics_source_ == "tf" && root["extrinsics"])
+    NODELET_WARN("extrinsics_source tf: the extrinsics of %s are not used", config_file.c_str());
+  if (!(heap_release_interval_ >= 0.0 && heap_release_interval_ <= 3600.0))
+    return "heap_release_interval must be in [0, 3600] s, 0 = off (got " +
+           std::to_string(heap_release_interval_) + ")";
+  return "";
+}
+
 void RioNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
@@ -44,48 +81,25 @@ void RioNodelet::onInit() {
   pnh.param<int>("max_path_length", max_path_length_, max_path_length_);
   pnh.param<std::string>("extrinsics_source", extrinsics_source_, extrinsics_source_);
   pnh.param<std::string>("imu_frame", imu_frame_, base_frame_);
+  pnh.param<double>("heap_release_interval", heap_release_interval_, heap_release_interval_);
   bool publish_extrinsics_tf = false;
   pnh.param<bool>("publish_extrinsics_tf", publish_extrinsics_tf, false);
 
+  rio::RioConfig cfg;
+  ros_adapters::RioInputConfig in_cfg;
+  const std::string err = loadConfig(pnh, config_file, publish_extrinsics_tf, &cfg, &in_cfg);
+  if (!err.empty()) {
+    // As CoralNodelet: a configuration error fails the load (the manager reports it), rather
+    // than a loaded nodelet that does nothing.
+    NODELET_FATAL("%s", err.c_str());
+    throw std::runtime_error("RioNodelet: " + err);
+  }
   updater_ = std::make_shared<diagnostic_updater::Updater>(nh, pnh);
   updater_->setHardwareID("rio");
   // Several nodelets share the manager's node name: the task name says which one.
   updater_->add(getName() + ": radar-inertial odometry", this, &RioNodelet::diagnose);
   timer_ = pnh.createWallTimer(ros::WallDuration(1.0),
                                [this](const ros::WallTimerEvent&) { updater_->update(); });
-
-  rio::RioConfig cfg;
-  ros_adapters::RioInputConfig in_cfg;
-  std::string err;
-  std::vector<std::string> warnings;
-  YAML::Node root;
-  try {
-    if (!config_file.empty()) root = YAML::LoadFile(config_file);
-  } catch (const YAML::Exception& e) {
-    err = "cannot read config_file " + config_file + ": " + e.what();
-  }
-  if (err.empty() && !(rio::loadRioConfig(root, &cfg, &err, &warnings, {"ros"}) &&
-                       ros_adapters::loadRioInputConfig(root["ros"], &in_cfg, &err)))
-    err = "invalid config " + config_file + ": " + err;
-  std::string time_source;  // optional override of the config's ros/time_source
-  if (err.empty() && pnh.getParam("time_source", time_source)) {
-    in_cfg.time_source = time_source;
-    err = in_cfg.validate();
-  }
-  if (err.empty() && (odom_frame_.empty() || base_frame_.empty() || max_path_length_ < 1))
-    err = "odom_frame and base_frame must be set and max_path_length >= 1";
-  if (err.empty() && extrinsics_source_ != "config" && extrinsics_source_ != "tf")
-    err = "extrinsics_source must be config or tf, got '" + extrinsics_source_ + "'";
-  if (err.empty() && (imu_frame_.empty() || radar_frame_.empty()))
-    err = "imu_frame and radar_frame must be set";
-  if (err.empty() && extrinsics_source_ == "tf" && publish_extrinsics_tf)
-    err = "publish_extrinsics_tf needs extrinsics_source config (with tf they come from TF)";
-  if (!err.empty()) {
-    config_error_ = err;
-    NODELET_ERROR("%s; the odometry does not run", err.c_str());
-    return;
-  }
-  for (const std::string& w : warnings) NODELET_WARN("%s", w.c_str());
   cfg_ = cfg;
   if (extrinsics_source_ == "config") {
     extrinsics_from_ = "config file";
@@ -175,19 +189,35 @@ void RioNodelet::imuCb(const sensor_msgs::ImuConstPtr& msg) {
 }
 
 void RioNodelet::radarCb(const sensor_msgs::PointCloud2ConstPtr& msg) {
+  bool release_heap = false;
   guarded("radar callback", [&] {
     std::lock_guard<std::mutex> lock(mutex_);
     ++counters_.scans;
     std::string err;
+    const long without_velocity = input_->counters().no_velocity_field;
     std::vector<rio::RadarFrame> frames = input_->radar(*msg, &err);
-    if (!err.empty()) {
+    // The newest scan says whether the radar input is refused (diagnostics: ERROR).
+    scan_error_ = input_->counters().no_velocity_field > without_velocity ? err : "";
+    if (!scan_error_.empty()) {
+      last_problem_ = err;
+      NODELET_ERROR_THROTTLE(5.0, "%s", err.c_str());
+    } else if (!err.empty()) {
       last_problem_ = err;
       NODELET_WARN_THROTTLE(5.0, "%s", err.c_str());
     }
     if (!msg->header.frame_id.empty()) radar_frame_ = msg->header.frame_id;
     if (!estimator_) lookupExtrinsics(radar_frame_);
     for (rio::RadarFrame& f : frames) feedRadar(std::move(f));
+    // Rate-limited, after the frame's solve (the large allocations: clouds, Ceres problems).
+    release_heap = heap_release_.due(ros::SteadyTime::now().toSec(), heap_release_interval_);
   });
+  // Outside the lock: the IMU callback does not wait for it (heap_release.hpp says why).
+  if (release_heap) {
+    const ros::SteadyTime start = ros::SteadyTime::now();
+    const bool released = ros_adapters::releaseFreeHeap();
+    NODELET_DEBUG("heap release (%s): %.3f ms", released ? "malloc_trim" : "unavailable",
+                  (ros::SteadyTime::now() - start).toSec() * 1e3);
+  }
 }
 
 void RioNodelet::triggerCb(const std_msgs::HeaderConstPtr& msg) {
@@ -219,7 +249,9 @@ void RioNodelet::handle(const std::vector<rio::FrameReport>& reports) {
     last_status_ = r.status;
     if (!r.message.empty()) {
       last_message_ = r.message;
-      if (r.status == rio::FrameStatus::kReset || r.status == rio::FrameStatus::kRejected)
+      if (r.message == estimator_->inputError())  // refused input (IMU units)
+        NODELET_ERROR_THROTTLE(5.0, "rio: %s: no odometry", r.message.c_str());
+      else if (r.status == rio::FrameStatus::kReset || r.status == rio::FrameStatus::kRejected)
         NODELET_WARN_THROTTLE(2.0, "rio %s: %s", rio::toString(r.status), r.message.c_str());
     }
     if (r.status == rio::FrameStatus::kTracking || r.status == rio::FrameStatus::kReset) {
@@ -300,16 +332,15 @@ void RioNodelet::publish(const rio::FrameReport& r) {
 
 void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!config_error_.empty()) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, config_error_);
-    return;
-  }
   stat.add("extrinsics source", extrinsics_source_);
   stat.add("radar frames waiting for extrinsics", counters_.waiting_for_extrinsics);
   if (!estimator_) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 "waiting for TF " + imu_frame_ + " <- " + radar_frame_ +
-                     " (radar-to-IMU extrinsics): the odometry starts when it appears");
+    if (!scan_error_.empty())
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "input refused: " + scan_error_);
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "waiting for TF " + imu_frame_ + " <- " + radar_frame_ +
+                       " (radar-to-IMU extrinsics): the odometry starts when it appears");
     stat.add("imu messages", counters_.imu);
     stat.add("radar messages", counters_.scans);
     stat.add("last problem", last_problem_);
@@ -327,7 +358,13 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   }
   const rio::RioCounters& c = estimator_->counters();
   const ros_adapters::RioInputCounters& ic = input_->counters();
-  if (counters_.imu == 0 || counters_.scans == 0)
+  // Refused input first: nothing else the odometry says is worth reading then.
+  if (!estimator_->inputError().empty())
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+                 "input refused, no odometry: " + estimator_->inputError());
+  else if (!scan_error_.empty())
+    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "input refused: " + scan_error_);
+  else if (counters_.imu == 0 || counters_.scans == 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for IMU and radar input");
   else if (last_status_ == rio::FrameStatus::kInitializing)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "initialising: " + last_message_);
@@ -345,6 +382,7 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("failed solves", c.failed_solves);
   stat.add("rejected frames", c.rejected_frames);
   stat.add("imu gaps", c.imu_gaps);
+  stat.add("imu gaps bridged with Doppler", c.gap_bridged);
   stat.add("time jumps back", c.time_jumps);
   stat.add("imu out of order", c.imu_out_of_order);
   stat.add("empty scans", c.empty_scans);
@@ -354,6 +392,7 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("scans without trigger", ic.unmatched_scans);
   stat.add("standing frames", c.standing_frames);
   stat.add("callback errors", counters_.errors);
+  stat.add("input error", estimator_->inputError());
   stat.add("last problem", last_problem_);
 }
 

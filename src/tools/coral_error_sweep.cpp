@@ -17,6 +17,7 @@
 
 #include "coral_introspection/eval/error_sweep.hpp"
 #include "coral_introspection/eval/pair_datasets.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
 
@@ -36,33 +37,22 @@ int fail(const std::string& msg) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string config, out_path;
-  std::vector<std::string> specs;
+  core::ToolArgs args;
+  std::string err;
   int stride = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::printf("%s\n", kUsage);
-      return 0;
-    }
-    if (i + 1 >= argc) return fail("missing value after " + arg);
-    const std::string val = argv[++i];
-    if (arg == "--config")
-      config = val;
-    else if (arg == "--data")
-      specs.push_back(val);
-    else if (arg == "--out")
-      out_path = val;
-    else if (arg == "--stride") {
-      stride = std::atoi(val.c_str());
-      if (stride < 1) return fail("--stride must be a positive integer");
-    } else
-      return fail("unknown argument " + arg);
+  if (!core::parseToolArgs(argc, argv, {"--config", "--data", "--stride", "--out"}, {}, &args,
+                           &err) ||
+      !core::positiveInt(args, "--stride", 1, &stride, &err))
+    return fail(err);
+  if (args.help) {
+    std::printf("%s\n", kUsage);
+    return 0;
   }
-  if (config.empty() || specs.empty()) return fail("--config and --data are required");
+  const std::string config = args.get("--config"), out_path = args.get("--out");
+  if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
+  const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;
   core::VerdictConfig verdict;
-  std::string err;
   if (!ros_adapters::loadPresetFile(config, &node, &verdict, &err))
     return fail(config + ": " + err);
   // Every term of the verdict (classifier and relative check) in the CSV; the summary counts
@@ -97,7 +87,8 @@ int main(int argc, char** argv) {
         out << core::errorSweepCsvRow(d.name, static_cast<int>(i), e, j.verdict) << "\n";
         core::AlignmentVerdict v = j.verdict;
         if (v.coral.valid)
-          core::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v);
+          core::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v,
+                               verdict.gate, v.coral.overlap);
         auto& t = tally[e.label];
         t.second += 1;
         t.first += v.valid && v.aligned == e.ground_truth;

@@ -29,6 +29,7 @@
 #include "coral_introspection/eval/keyframe_sequence.hpp"
 #include "coral_introspection/eval/loop_gates.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
 
@@ -63,39 +64,27 @@ struct Judged {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string config, keyframes, carmen, corrected, out_path, out_dir, rows = "all";
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::printf("%s\n", kUsage);
-      return 0;
-    }
-    if (i + 1 >= argc) return fail("missing value after " + arg);
-    const std::string val = argv[++i];
-    if (arg == "--config")
-      config = val;
-    else if (arg == "--keyframes")
-      keyframes = val;
-    else if (arg == "--carmen")
-      carmen = val;
-    else if (arg == "--corrected")
-      corrected = val;
-    else if (arg == "--out")
-      out_path = val;
-    else if (arg == "--out_dir")
-      out_dir = val;
-    else if (arg == "--rows")
-      rows = val;
-    else
-      return fail("unknown argument " + arg);
+  core::ToolArgs args;
+  std::string err;
+  if (!core::parseToolArgs(
+          argc, argv,
+          {"--config", "--keyframes", "--carmen", "--corrected", "--out", "--out_dir", "--rows"},
+          {}, &args, &err))
+    return fail(err);
+  if (args.help) {
+    std::printf("%s\n", kUsage);
+    return 0;
   }
+  const std::string config = args.get("--config"), keyframes = args.get("--keyframes"),
+                    carmen = args.get("--carmen"), corrected = args.get("--corrected"),
+                    out_path = args.get("--out"), out_dir = args.get("--out_dir"),
+                    rows = args.get("--rows", "all");
   if (config.empty() || keyframes.empty() == carmen.empty() || carmen.empty() != corrected.empty())
     return fail("--config and either --keyframes or --carmen with --corrected are required");
   if (rows != "all" && rows != "even" && rows != "odd")
     return fail("--rows must be all, even or odd (got '" + rows + "')");
   ros_adapters::NodeConfig node;
   core::VerdictConfig verdict;
-  std::string err;
   if (!ros_adapters::loadPresetFile(config, &node, &verdict, &err))
     return fail(config + ": " + err);
   online::IntrospectorConfig judge_cfg = node.online;
@@ -118,24 +107,14 @@ int main(int argc, char** argv) {
     std::vector<core::CarmenLaserScan> log;
     core::LaserGeometry geometry;
     std::vector<int> raw;
-    std::vector<core::Relation> relations, loops;
     std::string rel_file = carmen;
     for (const char* ext : {".bz2", ".clf"})
       if (rel_file.size() > 4 && rel_file.compare(rel_file.size() - 4, 4, ext) == 0)
         rel_file.resize(rel_file.size() - 4);
     if (!core::readCarmenLog(carmen, &log, &err) ||
         !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
-        !core::readRelations(rel_file + ".relations", &relations, &err))
-      return fail(err);
-    std::vector<double> log_stamps;
-    for (const auto& l : log) log_stamps.push_back(l.stamp);
-    auto line = [&](double t) {
-      return std::lower_bound(log_stamps.begin(), log_stamps.end(), t - 1e-4) - log_stamps.begin();
-    };
-    for (const core::Relation& r : relations)
-      if (std::abs(line(r.t1) - line(r.t2)) > 30) loops.push_back(r);
-    int unmatched = 0;
-    if (!core::relationPairs(log, loops, geometry, &rel_scans, &rel_pairs, &unmatched, &err))
+        !core::loopRelationPairs(log, rel_file + ".relations", geometry, 30, &rel_scans, &rel_pairs,
+                                 &err))
       return fail(err);
     graph.odom_t = 0.1;
     graph.odom_r = 0.03;
@@ -173,7 +152,7 @@ int main(int argc, char** argv) {
     std::ofstream out(out_path);
     if (!out) return fail("cannot write " + out_path);
     out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
-           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap\n";
+           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes\n";
     for (const Judged* j : table) {
       const core::LoopCandidate& c = j->c;
       const core::AlignmentVerdict& v = j->v;
@@ -181,7 +160,8 @@ int main(int argc, char** argv) {
           << ',' << c.error_translation << ',' << c.error_rotation_deg << ',' << c.converged << ','
           << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
           << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
-          << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << "\n";
+          << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
+          << v.relative.flat_axes.size() << "\n";
     }
   }
 

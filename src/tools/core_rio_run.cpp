@@ -1,6 +1,6 @@
 // Runs the radar-inertial odometry on a plain-text sequence (eval/rio_sequence.hpp), as
 // fast as it can, without ROS:
-//   coral_rio_run --sequence FILE [--config FILE.yaml] [--set group/key=value]...
+//   coral_rio_run --sequence FILE --config FILE.yaml [--set group/key=value]...
 //                 [--output TRAJ.tum] [--report FRAMES.csv] [--loop]
 // Prints frames processed and the time per frame; --loop also prints the end-point error
 // of a sequence that ends where it starts; ground truth in the sequence gives APE / RPE.
@@ -35,19 +35,20 @@ int main(int argc, char** argv) {
       loop = true;
     else {
       std::cerr
-          << "usage: coral_rio_run --sequence FILE [--config FILE.yaml] "
+          << "usage: coral_rio_run --sequence FILE --config FILE.yaml "
              "[--set group/key=value]... [--output TRAJ.tum] [--report FRAMES.csv] [--loop]\n";
       return 2;
     }
   }
-  if (sequence.empty()) {
-    std::cerr << "coral_rio_run: --sequence is required\n";
+  if (sequence.empty() || config.empty()) {
+    // No config would mean default extrinsics, which no rig has (config_yaml.hpp).
+    std::cerr << "coral_rio_run: --sequence and --config are required\n";
     return 2;
   }
   YAML::Node root;
   std::string err;
   try {
-    if (!config.empty()) root = YAML::LoadFile(config);
+    root = YAML::LoadFile(config);
   } catch (const YAML::Exception& e) {
     std::cerr << "coral_rio_run: cannot read " << config << ": " << e.what() << "\n";
     return 1;
@@ -58,12 +59,10 @@ int main(int argc, char** argv) {
       return 2;
     }
   rio::RioConfig cfg;
-  std::vector<std::string> warnings;
-  if (!rio::loadRioConfig(root, &cfg, &err, &warnings, {"ros"})) {
+  if (!rio::loadRioConfig(root, &cfg, &err, {{"ros"}})) {
     std::cerr << "coral_rio_run: invalid config: " << err << "\n";
     return 1;
   }
-  for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
   core::RioSequence seq;
   if (!core::readRioSequence(sequence, &seq, &err)) {
     std::cerr << "coral_rio_run: " << err << "\n";

@@ -1,5 +1,6 @@
-// RioNodelet on the TI mmWave bag (odometry, covariance, TF, the loop closes) and on bad
-// inputs (diagnostics count them, the odometry recovers, the nodelet survives).
+// RioNodelet on the TI mmWave bag (odometry, covariance, TF, the loop closes), on bad
+// inputs (diagnostics count them, the odometry recovers, the nodelet survives), on input it
+// must refuse (ERROR diagnostics, no odometry), and with bad configs (the load fails).
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -20,6 +21,13 @@
 #include <mutex>
 #include <string>
 #include <vector>
+
+#include <nodelet/NodeletList.h>
+#include <nodelet/NodeletLoad.h>
+#include <nodelet/NodeletUnload.h>
+
+#include <algorithm>
+#include <fstream>
 
 #include "support/test_data.hpp"
 
@@ -159,11 +167,12 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
 
 namespace {
 
-sensor_msgs::Imu imuAt(double t) {
+sensor_msgs::Imu imuAt(double t, double gyro_z) {
   sensor_msgs::Imu m;
   m.header.stamp = ros::Time(t);
   m.header.frame_id = "bad_base";
   m.linear_acceleration.z = 9.81;
+  m.angular_velocity.z = gyro_z;
   return m;
 }
 
@@ -194,33 +203,46 @@ sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity, const std::
   return c;
 }
 
-// Standing data over [t0, t1): IMU at 200 Hz, a radar scan of `points` reflectors at 10 Hz
-// (2 ms before its IMU sample), paced at 10x real time.
+// Standing data over [t0, t1): IMU at 200 Hz (rate gyro_z about z), a radar scan of `points`
+// reflectors at 10 Hz (2 ms before its IMU sample), paced at 10x real time.
 void playStanding(const ros::Publisher& imu, const ros::Publisher& radar, double t0, double t1,
-                  bool with_velocity, int points, const std::string& radar_frame) {
+                  bool with_velocity, int points, const std::string& radar_frame,
+                  double gyro_z = 0.0) {
   for (double t = t0; t < t1; t += 0.005) {
-    imu.publish(imuAt(t));
+    imu.publish(imuAt(t, gyro_z));
     if (std::lround((t - t0) / 0.005) % 20 == 19)
       radar.publish(scanAt(t - 0.002, points, with_velocity, radar_frame));
     ros::WallDuration(0.0005).sleep();
   }
 }
 
+// The nodelet of namespace `ns` under test: its odometry and the diagnostics of task `name`
+// collected, publishers of its imu and radar inputs (connected), a running spinner.
+struct Harness {
+  Harness(const std::string& ns, const std::string& name)
+      : so(odometryOf(nh, ns + "/odometry", &c)),
+        sd(diagnosticsOf(nh, name, &c)),
+        pi(nh.advertise<sensor_msgs::Imu>(ns + "/imu", 5000)),
+        pr(nh.advertise<sensor_msgs::PointCloud2>(ns + "/radar", 100)),
+        spinner(2) {
+    spinner.start();
+    waitFor(nh, pi);
+    waitFor(nh, pr);
+  }
+  ros::NodeHandle nh;
+  Collector c;
+  ros::Subscriber so, sd;
+  ros::Publisher pi, pr;
+  ros::AsyncSpinner spinner;
+};
+
 }  // namespace
 
 TEST(RioNodelet, BadInputsGiveDiagnosticsAndRecovery) {
-  ros::NodeHandle nh;
-  Collector c;
-  ros::Subscriber so = odometryOf(nh, "/bad/odometry", &c);
-  ros::Subscriber sd = diagnosticsOf(nh, "rio_bad", &c);
-  ros::Publisher pi = nh.advertise<sensor_msgs::Imu>("/bad/imu", 5000);
-  ros::Publisher pr = nh.advertise<sensor_msgs::PointCloud2>("/bad/radar", 100);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  waitFor(nh, pi);
-  waitFor(nh, pr);
+  Harness h("/bad", "rio_bad");
+  Collector& c = h.c;
   auto play = [&](double t0, double t1, bool with_velocity, int points) {
-    playStanding(pi, pr, t0, t1, with_velocity, points, "radar");
+    playStanding(h.pi, h.pr, t0, t1, with_velocity, points, "radar");
   };
   play(1000.0, 1003.0, true, 30);  // static start: initialises and tracks
   ros::WallDuration(0.5).sleep();
@@ -253,23 +275,17 @@ TEST(RioNodelet, BadInputsGiveDiagnosticsAndRecovery) {
 // it; then the odometry starts with exactly that transform (the landmarks land where the TF
 // rotation puts the reflectors, not where the config file's TI extrinsics would).
 TEST(RioNodelet, ExtrinsicsFromTfWaitForTheTransformThenUseIt) {
-  ros::NodeHandle nh;
-  Collector c;
+  Harness h("/late_tf", "rio_late_tf");
+  Collector& c = h.c;
   std::vector<sensor_msgs::PointCloud2> landmarks;
-  ros::Subscriber so = odometryOf(nh, "/late_tf/odometry", &c);
-  ros::Subscriber sl = nh.subscribe<sensor_msgs::PointCloud2>(
+  ros::Subscriber sl = h.nh.subscribe<sensor_msgs::PointCloud2>(
       "/late_tf/landmarks", 100, [&c, &landmarks](const sensor_msgs::PointCloud2ConstPtr& m) {
         std::lock_guard<std::mutex> l(c.m);
         landmarks.push_back(*m);
       });
-  ros::Subscriber sd = diagnosticsOf(nh, "rio_late_tf", &c);
-  ros::Publisher pi = nh.advertise<sensor_msgs::Imu>("/late_tf/imu", 5000);
-  ros::Publisher pr = nh.advertise<sensor_msgs::PointCloud2>("/late_tf/radar", 100);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  waitFor(nh, pi);
-  waitFor(nh, pr);
-  auto play = [&](double t0, double t1) { playStanding(pi, pr, t0, t1, true, 30, "late_radar"); };
+  auto play = [&](double t0, double t1) {
+    playStanding(h.pi, h.pr, t0, t1, true, 30, "late_radar");
+  };
   play(2000.0, 2002.0);  // standing, no TF yet
   ros::WallDuration(2.5).sleep();
   {
@@ -312,6 +328,89 @@ TEST(RioNodelet, ExtrinsicsFromTfWaitForTheTransformThenUseIt) {
     EXPECT_GT(*x, -1.1);
     EXPECT_LT(*x, 1.8);
   }
+}
+
+// Refused input (rio_input.hpp, rio/imu_check.hpp): ERROR diagnostics with the reason, no
+// odometry. First scans without the radial-velocity field, then a standing IMU whose rate is
+// the TI gyro's bias read in deg/s (0.44 "rad/s").
+TEST(RioNodelet, RefusedInputGivesErrorDiagnosticsAndNoOdometry) {
+  Harness h("/refuse", "rio_refuse");
+  Collector& c = h.c;
+  auto summary = [&c] {
+    std::lock_guard<std::mutex> l(c.m);
+    return std::make_pair(c.level, c.summary);
+  };
+  playStanding(h.pi, h.pr, 3000.0, 3001.0, false, 30, "radar");
+  ros::WallDuration(2.5).sleep();  // a diagnostics update (1 s period) after the last scan
+  std::pair<int, std::string> d = summary();
+  EXPECT_EQ(d.first, diagnostic_msgs::DiagnosticStatus::ERROR) << d.second;
+  EXPECT_NE(d.second.find("input refused: radar cloud has no radial-velocity field 'velocity' "
+                          "(fields: x, y, z; set ros/velocity_field)"),
+            std::string::npos)
+      << d.second;
+  EXPECT_GT(diagValue(c, "scans without radial velocity"), 5);
+  playStanding(h.pi, h.pr, 3001.0, 3004.0, true, 30, "radar", 0.44);
+  ros::WallDuration(2.5).sleep();
+  d = summary();
+  EXPECT_EQ(d.first, diagnostic_msgs::DiagnosticStatus::ERROR) << d.second;
+  EXPECT_NE(d.second.find("input refused, no odometry: IMU units: at rest"), std::string::npos)
+      << d.second;
+  EXPECT_NE(d.second.find("(in deg/s?)"), std::string::npos) << d.second;
+  std::lock_guard<std::mutex> l(c.m);
+  EXPECT_TRUE(c.odom.empty()) << c.odom.size() << " odometry messages from refused input";
+  EXPECT_EQ(c.diag["callback errors"], "0");
+}
+
+namespace {
+
+std::vector<std::string> loadedNodelets() {
+  nodelet::NodeletList srv;
+  if (!ros::service::call("/rio_test_manager/list", srv)) return {"<list failed>"};
+  return srv.response.nodelets;
+}
+
+// Loads RioNodelet as `name` with its config file holding `yaml` (none when yaml is null) and
+// one extra private parameter; true when the manager loaded it.
+bool loadWithConfig(const std::string& name, const char* yaml, const std::string& param = "",
+                    double value = 0.0) {
+  if (yaml) {
+    std::string tag = name;
+    std::replace(tag.begin(), tag.end(), '/', '_');
+    const std::string path = coral_test::tempPath("rio_load" + tag, ".yaml");
+    std::ofstream(path) << yaml;
+    ros::param::set(name + "/config_file", path);
+  }
+  if (!param.empty()) ros::param::set(name + "/" + param, value);
+  nodelet::NodeletLoad srv;
+  srv.request.name = name;
+  srv.request.type = "coral_introspection/RioNodelet";
+  return ros::service::call("/rio_test_manager/load_nodelet", srv) && srv.response.success;
+}
+
+}  // namespace
+
+// As CoralNodelet: a configuration error fails the load (onInit throws; the manager answers
+// false and does not list the nodelet), instead of a loaded nodelet doing nothing.
+TEST(RioNodelet, ConfigErrorsFailTheLoad) {
+  ASSERT_TRUE(ros::service::waitForService("/rio_test_manager/load_nodelet", ros::Duration(20.0)));
+  const char* good = "extrinsics: {translation: [0, 0, 0], rotation: [0, 0, 0, 1]}\n";
+  EXPECT_FALSE(loadWithConfig("/l_noext/rio", "solver: {window_size: 6}\n"));
+  EXPECT_FALSE(loadWithConfig("/l_misspelt/rio", "extrinsic: {translation: [0, 0, 0]}\n"));
+  EXPECT_FALSE(loadWithConfig("/l_unknown/rio",
+                              "extrinsics: {translation: [0, 0, 0], rotation: [0, 0, 0, 1]}\n"
+                              "window_size: 8\n"));
+  EXPECT_FALSE(loadWithConfig("/l_empty/rio", ""));
+  EXPECT_FALSE(loadWithConfig("/l_none/rio", nullptr));  // no config_file at all
+  EXPECT_FALSE(loadWithConfig("/l_heap/rio", good, "heap_release_interval", -1.0));
+  const std::vector<std::string> names = loadedNodelets();
+  EXPECT_EQ(std::count_if(names.begin(), names.end(),
+                          [](const std::string& n) { return n.rfind("/l_", 0) == 0; }),
+            0);
+  // The same manager still loads (and unloads) a valid one.
+  EXPECT_TRUE(loadWithConfig("/l_good/rio", good, "heap_release_interval", 1.0));
+  nodelet::NodeletUnload un;
+  un.request.name = "/l_good/rio";
+  EXPECT_TRUE(ros::service::call("/rio_test_manager/unload_nodelet", un) && un.response.success);
 }
 
 int main(int argc, char** argv) {

@@ -53,6 +53,14 @@ bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Re
                    const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
                    std::vector<ScanPair>* pairs, int* unmatched, std::string* error);
 
+// The loop closures among the benchmark relations of `log`: relations joining scans more
+// than `min_lines` FLASER lines apart (1,245 of Intel's 2,984 at 30), as relationPairs makes
+// them. False with *error on an unreadable relations file.
+bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,
+                       const LaserGeometry& geometry, int min_lines,
+                       std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,
+                       std::string* error);
+
 // A SLAM-corrected trajectory on the raw log
 // (../shared/data/radish_intel/*_corrected_poses_on_raw.csv: "corrected_idx, raw_flaser_idx,
 // raw_ipc_timestamp, x, y, theta", # comments): the scans it covers in log order, their corrected

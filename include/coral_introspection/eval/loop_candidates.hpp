@@ -61,8 +61,9 @@ struct LoopCandidate {
 // test_loop_closure): keyframe sequences (dimension 3) propose revisits within 3 m of the
 // odometry poses, at least 50 keyframes apart, registered from the odometry; CARMEN logs
 // (dimension 2), whose raw odometry drifts by metres, propose them where the reference says
-// (a working place recognizer), at least 30 corrected scans apart, registered from the
-// reference moved by 0.5 m and 10 deg. Tolerance: the preset's.
+// (a working place recognizer), at least 30 corrected scans apart (up to 300 revisits and 60
+// look-alike pairs), registered from the reference moved by 0.5 m and 10 deg. Tolerance: the
+// preset's.
 LoopCandidateConfig evaluationCandidates(int dimension, const ToleranceConfig& tolerance);
 
 // Registers b onto a from T_init (b's points into a's frame) and fills T_a_b, converged,

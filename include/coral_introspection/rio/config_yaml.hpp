@@ -2,8 +2,9 @@
 // the ROS-free tools and the nodelet (its parameter tree converted to YAML). Keys mirror
 // the config structs: imu/..., extrinsics/translation [x, y, z], extrinsics/rotation
 // [qx, qy, qz, qw], radar_time_offset, uncertainty/..., front_end/..., association/...,
-// solver/..., init/..., zero_velocity/..., health/.... Missing keys keep their defaults.
-// Never throws.
+// solver/..., init/..., zero_velocity/..., health/.... Missing settings keep their defaults,
+// except the extrinsics (no default is right for a sensor rig: identity would be a guess).
+// A key no setting reads is an error naming the nearest valid key. Never throws.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -16,17 +17,24 @@
 namespace coral_introspection {
 namespace rio {
 
+// What a caller expects of the file besides the estimator's settings.
+struct RioConfigRules {
+  // Top-level groups read by someone else (the adapters' "ros"): not unknown.
+  std::vector<std::string> other_groups;
+  // extrinsics/translation and extrinsics/rotation must be given. False only where the
+  // extrinsics come from elsewhere (RioNodelet with extrinsics_source tf).
+  bool require_extrinsics = true;
+};
+
 // Reads the groups above from root into *cfg, then validates. On error returns false with
-// *error naming the key. Keys inside the known groups that no setting reads are reported
-// in *warnings (likely typos); top-level keys not listed in `other_groups` too.
+// *error naming the key: an empty file, an unknown key or group (with the nearest valid
+// name), a missing required setting, a wrong type, an invalid value.
 bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
-                   std::vector<std::string>* warnings = nullptr,
-                   const std::vector<std::string>& other_groups = {});
+                   const RioConfigRules& rules = {});
 
 // The same from a file.
 bool loadRioConfigFile(const std::string& path, RioConfig* cfg, std::string* error,
-                       std::vector<std::string>* warnings = nullptr,
-                       const std::vector<std::string>& other_groups = {});
+                       const RioConfigRules& rules = {});
 
 // Applies one "group/key=value" assignment (value parsed as YAML) to root, e.g.
 // "solver/window_size=8" or "extrinsics/translation=[0, 0, 0.1]". False with *error when

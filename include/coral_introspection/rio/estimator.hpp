@@ -18,6 +18,7 @@
 
 #include "coral_introspection/rio/config.hpp"
 #include "coral_introspection/rio/front_end.hpp"
+#include "coral_introspection/rio/imu_check.hpp"
 #include "coral_introspection/rio/initializer.hpp"
 #include "coral_introspection/rio/marginalization.hpp"
 #include "coral_introspection/rio/tracks.hpp"
@@ -48,6 +49,7 @@ struct RioCounters {
   long frames = 0, tracked = 0, resets = 0, failed_solves = 0, rejected_frames = 0;
   long imu_out_of_order = 0, time_jumps = 0, imu_gaps = 0, empty_scans = 0, no_doppler = 0;
   long standing_frames = 0;
+  long gap_bridged = 0;  // IMU-gap frames placed with the Doppler velocity (subset of imu_gaps)
 };
 
 class Estimator {
@@ -70,6 +72,10 @@ class Estimator {
   std::vector<NavState> windowStates() const;
   Points landmarkPositions() const;  // landmarks and map points, world frame
   const RioCounters& counters() const { return counters_; }
+  // Why the input cannot be right (IMU units, imu_check.hpp), "" while it may be. Once set,
+  // every radar frame is rejected with this message until reset(): no odometry is better
+  // than a confident wrong one.
+  const std::string& inputError() const { return input_error_; }
   const RioConfig& config() const { return cfg_; }
 
  private:
@@ -82,6 +88,9 @@ class Estimator {
 
   std::vector<FrameReport> drain();
   FrameReport process(const RadarFrame& f);
+  bool refuseImplausibleImu(const std::vector<ImuSample>& interval, bool standing,
+                            FrameReport* report);
+  void bridgeImuGap(const RadarFrame& f, double gap, FrameReport* report);
   bool imuInterval(double t0, double t1, std::vector<ImuSample>* out, double* max_gap) const;
   Eigen::Isometry3d radarPose(const NavState& s) const;
   Vec3 radarVelocity(const NavState& s, const Vec3& omega) const;
@@ -101,6 +110,8 @@ class Estimator {
 
   RioConfig cfg_;
   StaticInitializer init_;
+  ImuRestCheck imu_check_;
+  std::string input_error_;
   std::deque<ImuSample> imu_;
   std::deque<RadarFrame> pending_;
   std::deque<std::unique_ptr<WindowFrame>> window_;

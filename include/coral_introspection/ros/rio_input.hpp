@@ -33,8 +33,8 @@ struct RioInputConfig {
   std::string validate() const;             // empty when valid
 };
 
-// Reads `node` (the ros group; missing keys keep defaults). False with *error on a bad type
-// or an invalid result.
+// Reads `node` (the ros group; missing keys keep defaults). False with *error on an unknown
+// key (naming the nearest valid one), a bad type or an invalid result.
 bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error);
 
 struct RioInputCounters {
@@ -61,8 +61,8 @@ class RioInput {
   // False with *error on a non-finite sample or a zero stamp.
   bool imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string* error);
   // The radar frames this scan completes (with time_source trigger, a scan waits for its
-  // trigger). A cloud without the radial-velocity field still gives a frame (points only,
-  // no Doppler; the estimator counts it) and *error says why.
+  // trigger). A cloud without the radial-velocity field gives no frame (counted) and *error
+  // names the fields it has; *error is empty for a good cloud.
   std::vector<rio::RadarFrame> radar(const sensor_msgs::PointCloud2& msg, std::string* error);
   std::vector<rio::RadarFrame> trigger(const std_msgs::Header& msg);
   bool usesTrigger() const { return cfg_.time_source == "trigger"; }

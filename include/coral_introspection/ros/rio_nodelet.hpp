@@ -14,6 +14,11 @@
 // mounting). With extrinsics from the config, publish_extrinsics_tf broadcasts them as a static
 // TF imu_frame -> radar_frame (what CoralNodelet needs to pose the scans; Debian's ROS has no
 // static_transform_publisher).
+// Refuse, don't guess: a configuration error (an unknown key, missing extrinsics, an invalid
+// value) fails the load (onInit throws, as CoralNodelet); refused input (scans without the
+// radial-velocity field, IMU units that cannot be right) gives no odometry and an ERROR in
+// the diagnostics with the reason. heap_release_interval (s, default 10, 0 = off): as
+// CoralNodelet, the allocator's free pages go back to the system at most that often.
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -34,6 +39,7 @@
 #include <vector>
 
 #include "coral_introspection/rio/estimator.hpp"
+#include "coral_introspection/ros/heap_release.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
 
 namespace coral_introspection {
@@ -46,6 +52,10 @@ class RioNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override;
+  // Reads the parameters' config file and checks the parameters; the error, "" when valid.
+  std::string loadConfig(const ros::NodeHandle& pnh, const std::string& config_file,
+                         bool publish_extrinsics_tf, rio::RioConfig* cfg,
+                         ros_adapters::RioInputConfig* in_cfg);
   template <class F>
   void guarded(const char* what, F&& f) noexcept;
 
@@ -62,7 +72,6 @@ class RioNodelet : public nodelet::Nodelet {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   std::mutex mutex_;
-  std::string config_error_;  // non-empty: invalid configuration, nothing subscribed
   std::string odom_frame_ = "odom", base_frame_ = "base_link", radar_frame_ = "radar";
   std::string velocity_field_ = "velocity";
   double radar_time_offset_ = 0.0;
@@ -77,6 +86,9 @@ class RioNodelet : public nodelet::Nodelet {
   std::unique_ptr<ros_adapters::RioInput> input_;
   Counters counters_;
   std::string last_problem_, last_message_;
+  std::string scan_error_;  // why the newest radar scan was refused ("" when it was not)
+  double heap_release_interval_ = 10.0;          // [s] steady; 0 = off
+  ros_adapters::HeapReleaseTimer heap_release_;  // radar callback only (under mutex_)
   rio::FrameStatus last_status_ = rio::FrameStatus::kInitializing;
   nav_msgs::Path path_;
 

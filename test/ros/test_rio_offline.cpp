@@ -1,0 +1,227 @@
+// rio_offline end to end: the TI bag gives its trajectory; every bad input of the "refuse,
+// don't guess" issue ends with exit status 1, the reason on stderr, no trajectory file and no
+// end-point figure. Bad bags are the shared TI bag rewritten by the test (rosbag C++ API).
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sys/wait.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/test_data.hpp"
+
+using coral_test::tempPath;
+
+namespace {
+
+const std::string kTiConfig = std::string(CORAL_SOURCE_DIR) + "/config/rio_ti_mmwave.yaml";
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+struct Result {
+  int status = -1;
+  std::string out, err, trajectory;  // trajectory: the --output path
+};
+
+Result rioOffline(const std::string& bag, const std::string& config, const std::string& name) {
+  Result r;
+  r.trajectory = tempPath("rio_" + name, ".tum");
+  std::remove(r.trajectory.c_str());
+  const std::string out = tempPath("rio_" + name, ".out"), err = tempPath("rio_" + name, ".err");
+  const int st = std::system((std::string(RIO_OFFLINE_EXE) + " --bag " + bag + " --config " +
+                              config + " --output " + r.trajectory + " >" + out + " 2>" + err)
+                                 .c_str());
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  r.out = readFile(out);
+  r.err = readFile(err);
+  std::remove(out.c_str());
+  std::remove(err.c_str());
+  return r;
+}
+
+// Refused: status 1, `reason` on stderr, no trajectory written, no end-point figure.
+void expectRefused(const Result& r, const std::string& reason) {
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("refused: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(reason), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(r.trajectory)) << r.trajectory;
+  EXPECT_EQ(r.out.find("loop end-point error"), std::string::npos) << r.out;
+}
+
+std::string writeConfig(const std::string& name, const std::string& text) {
+  const std::string path = tempPath("rio_" + name, ".yaml");
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The TI bag's first `seconds` (bag time) with one change.
+enum class Edit {
+  kNone,
+  kRenameVelocityField,
+  kGyroInDegrees,
+  kAccInG,
+  kImuClockPlus100s,
+  kDropImu,
+  kDropTrigger,
+  kImuGapAt20s
+};
+
+std::string rewriteTiBag(const std::string& data, Edit edit, double seconds,
+                         const std::string& name) {
+  rosbag::Bag in(data + "/ti_mmwave_rospkg_demo.bag", rosbag::bagmode::Read);
+  const std::string path = tempPath("rio_" + name, ".bag");
+  rosbag::Bag out(path, rosbag::bagmode::Write);
+  rosbag::View view(in);
+  const ros::Time end = view.getBeginTime() + ros::Duration(seconds);
+  double imu_t0 = -1.0;
+  for (const rosbag::MessageInstance& m : view) {
+    if (m.getTime() > end) break;
+    const bool trigger = m.getTopic() == "/sensor_platform/radar_right/trigger";
+    if (sensor_msgs::Imu::Ptr imu = m.instantiate<sensor_msgs::Imu>()) {
+      const double t = imu->header.stamp.toSec();
+      if (imu_t0 < 0.0) imu_t0 = t;
+      if (edit == Edit::kDropImu ||
+          (edit == Edit::kImuGapAt20s && t - imu_t0 >= 20.0 && t - imu_t0 < 22.0))
+        continue;
+      if (edit == Edit::kGyroInDegrees) {
+        imu->angular_velocity.x *= 180.0 / M_PI;
+        imu->angular_velocity.y *= 180.0 / M_PI;
+        imu->angular_velocity.z *= 180.0 / M_PI;
+      }
+      if (edit == Edit::kAccInG) {
+        imu->linear_acceleration.x /= 9.81;
+        imu->linear_acceleration.y /= 9.81;
+        imu->linear_acceleration.z /= 9.81;
+      }
+      if (edit == Edit::kImuClockPlus100s) imu->header.stamp += ros::Duration(100.0);
+      out.write(m.getTopic(), m.getTime(), *imu);
+    } else if (sensor_msgs::PointCloud2::Ptr cloud = m.instantiate<sensor_msgs::PointCloud2>()) {
+      if (edit == Edit::kRenameVelocityField)
+        for (sensor_msgs::PointField& f : cloud->fields)
+          if (f.name == "velocity") f.name = "doppler";
+      out.write(m.getTopic(), m.getTime(), *cloud);  // header.seq kept: triggers pair by it
+    } else if (!(trigger && edit == Edit::kDropTrigger)) {
+      out.write(m.getTopic(), m.getTime(), m);
+    }
+  }
+  return path;
+}
+
+// The TUM file's rows (t x y z qx qy qz qw).
+std::vector<std::vector<double>> readTum(const std::string& path) {
+  std::vector<std::vector<double>> rows;
+  std::ifstream f(path);
+  std::vector<double> r(8);
+  while (f >> r[0] >> r[1] >> r[2] >> r[3] >> r[4] >> r[5] >> r[6] >> r[7]) rows.push_back(r);
+  return rows;
+}
+
+}  // namespace
+
+// The good path: the figures of doc/rio.md (end-point error 0.058 m horizontal).
+TEST(RioOffline, TiBagGivesItsTrajectory) {
+  CORAL_REQUIRE_DATA("ti_mmwave_demo");
+  const Result r = rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", kTiConfig, "good");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readTum(r.trajectory).size(), 412u);
+  EXPECT_NE(r.out.find("loop end-point error: horizontal 0.05"), std::string::npos) << r.out;
+}
+
+// Config errors come before the bag is opened: no data needed.
+TEST(RioOffline, ConfigErrorsAreRefusedNamingTheKey) {
+  const std::string bag = tempPath("rio_not_read", ".bag");
+  const std::string ext = "extrinsics: {translation: [0, 0, 0], rotation: [0, 0, 0, 1]}\n";
+  expectRefused(rioOffline(bag, writeConfig("empty", ""), "empty"), "the config is empty");
+  expectRefused(rioOffline(bag, writeConfig("noext", "solver: {window_size: 6}\n"), "noext"),
+                "extrinsics/translation is required");
+  expectRefused(
+      rioOffline(bag, writeConfig("misspelt", "extrinsic: {translation: [0, 0, 0]}\n"), "misspelt"),
+      "unknown group extrinsic (did you mean extrinsics?)");
+  expectRefused(rioOffline(bag, writeConfig("top", ext + "window_size: 8\n"), "top"),
+                "unknown parameter window_size (did you mean solver/window_size?)");
+  expectRefused(rioOffline(bag, writeConfig("ros", ext + "ros: {imu_topik: /imu}\n"), "ros"),
+                "unknown parameter ros/imu_topik (did you mean imu_topic?)");
+}
+
+TEST(RioOffline, EmptyBagIsRefused) {
+  const std::string bag = tempPath("rio_empty", ".bag");
+  rosbag::Bag(bag, rosbag::bagmode::Write).close();
+  const std::string cfg =
+      writeConfig("plain", "extrinsics: {translation: [0, 0, 0], rotation: [0, 0, 0, 1]}\n");
+  expectRefused(rioOffline(bag, cfg, "empty_bag"), "the bag has no messages");
+  std::remove(bag.c_str());
+}
+
+TEST(RioOffline, BadTiBagsAreRefusedWithTheReason) {
+  CORAL_REQUIRE_DATA("ti_mmwave_demo");
+  struct Case {
+    const char* name;
+    Edit edit;
+    const char* reason;
+  };
+  // 6 s of the standing start: the IMU units are judged after 1 s of rest.
+  const std::vector<Case> cases = {
+      {"no_velocity", Edit::kRenameVelocityField,
+       "no radial-velocity field 'velocity' (fields: x, y, z, intensity, doppler; set "
+       "ros/velocity_field)"},
+      {"deg_per_s", Edit::kGyroInDegrees, "not in rad/s (in deg/s?)"},
+      {"acc_in_g", Edit::kAccInG, "not in m/s^2 (in g?)"},
+      {"clock", Edit::kImuClockPlus100s, "the IMU and radar clocks do not overlap"},
+      {"no_imu", Edit::kDropImu,
+       "the bag has no topic '/sensor_platform/imu' (ros/imu_topic); its sensor_msgs/Imu "
+       "topics: none"},
+      {"no_trigger", Edit::kDropTrigger,
+       "the bag has no topic '/sensor_platform/radar_right/trigger' (ros/trigger_topic)"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string bag = rewriteTiBag(coral_data, c.edit, 6.0, c.name);
+    expectRefused(rioOffline(bag, kTiConfig, c.name), c.reason);
+    std::remove(bag.c_str());
+  }
+  // A wrong topic in the config names the bag's topic of that type.
+  YAML::Node cfg = YAML::LoadFile(kTiConfig);
+  cfg["ros"]["imu_topic"] = "/imu";
+  const std::string wrong_topic = writeConfig("wrong_topic", YAML::Dump(cfg));
+  expectRefused(rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", wrong_topic, "wrong_topic"),
+                "the bag has no topic '/imu' (ros/imu_topic); its sensor_msgs/Imu topics: "
+                "/sensor_platform/imu");
+}
+
+// 2 s without IMU while the device moves (20-22 s): bridged with the Doppler velocity and
+// counted, the poses over the gap follow the motion instead of standing still.
+TEST(RioOffline, ImuGapWhileMovingIsBridgedAndCounted) {
+  CORAL_REQUIRE_DATA("ti_mmwave_demo");
+  const std::string bag = rewriteTiBag(coral_data, Edit::kImuGapAt20s, 1e3, "gap");
+  const Result r = rioOffline(bag, kTiConfig, "gap");
+  std::remove(bag.c_str());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("imu gaps 21 (bridged with Doppler 21)"), std::string::npos) << r.out;
+  const std::vector<std::vector<double>> tum = readTum(r.trajectory);
+  ASSERT_EQ(tum.size(), 412u);
+  const double t0 = tum.front()[0];
+  double path = 0.0;
+  int frozen = 0;
+  for (std::size_t k = 1; k < tum.size(); ++k) {
+    if (tum[k][0] - t0 < 20.0 || tum[k][0] - t0 > 22.1) continue;
+    const double step = std::hypot(tum[k][1] - tum[k - 1][1], tum[k][2] - tum[k - 1][2]);
+    path += step;
+    frozen += step < 1e-3;
+  }
+  EXPECT_EQ(frozen, 0);
+  EXPECT_GT(path, 1.8);  // without the gap: 2.4 m over these 2.1 s
+}
