@@ -6,7 +6,9 @@
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
 //       [--stride N] [--out FILE.csv]
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
-// Exit 0 on success, 2 with a message for bad arguments or unreadable data.
+// "right": ground truth accepted (a valid, aligned verdict), an error not accepted (misaligned
+// or no verdict, e.g. no overlap left). Exit 0 on success, 2 with a message for bad arguments
+// or unreadable data.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -91,7 +93,7 @@ int main(int argc, char** argv) {
                                verdict.gate, v.coral.overlap);
         auto& t = tally[e.label];
         t.second += 1;
-        t.first += v.valid && v.aligned == e.ground_truth;
+        t.first += (v.valid && v.aligned) == e.ground_truth;  // no verdict = not accepted
       }
     }
     std::cerr << d.name << ": " << d.summary << "\n";
