@@ -31,18 +31,8 @@ namespace {
 
 const char* const kCases[5] = {"ground truth", "forward", "backward", "left", "right"};
 
-// Every stride()-th pair is judged (1 = all; CORAL_VERDICT_PAIR_STRIDE, a positive integer).
-std::size_t stride() {
-  const char* env = std::getenv("CORAL_VERDICT_PAIR_STRIDE");
-  if (env == nullptr || *env == '\0') return 1;
-  char* end = nullptr;
-  const long v = std::strtol(env, &end, 10);
-  if (*end != '\0' || v < 1) {
-    ADD_FAILURE() << "CORAL_VERDICT_PAIR_STRIDE=" << env << " is not a positive integer";
-    return 1;
-  }
-  return static_cast<std::size_t>(v);
-}
+// Every stride()-th pair is judged (1 = all; coral_test::pairStride).
+std::size_t stride() { return coral_test::pairStride(); }
 // Pairs judged of a data set of n pairs.
 int judged(int n) {
   return static_cast<int>((static_cast<std::size_t>(n) + stride() - 1) / stride());

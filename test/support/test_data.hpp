@@ -99,6 +99,21 @@ inline DataLookup findData(const std::string& subdir,
 // The data root ("" when absent). Prefer CORAL_REQUIRE_DATA, which also fails when required.
 inline std::string dataDir() { return findData("").path; }
 
+// CORAL_VERDICT_PAIR_STRIDE (scripts/test_sanitizers.sh, whose build is ~55x slower): the
+// real-data tests judge every N-th pair or candidate only and assert what holds for any
+// subset. 1 (every pair) when unset; a value that is not a positive integer fails the test.
+inline std::size_t pairStride() {
+  const char* env = std::getenv("CORAL_VERDICT_PAIR_STRIDE");
+  if (env == nullptr || *env == '\0') return 1;
+  char* end = nullptr;
+  const long v = std::strtol(env, &end, 10);
+  if (*end != '\0' || v < 1) {
+    ADD_FAILURE() << "CORAL_VERDICT_PAIR_STRIDE=" << env << " is not a positive integer";
+    return 1;
+  }
+  return static_cast<std::size_t>(v);
+}
+
 // A per-process path in gtest's temp dir, e.g. tempPath("oxford", ".bag").
 inline std::string tempPath(const std::string& name, const std::string& ext) {
   return ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid()) + ext;
