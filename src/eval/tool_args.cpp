@@ -1,6 +1,7 @@
 #include "coral_introspection/eval/tool_args.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 
 namespace coral_introspection {
@@ -35,6 +36,11 @@ bool parseToolArgs(int argc, const char* const* argv, const std::vector<std::str
     }
   }
   return true;
+}
+
+int toolError(const char* tool, const std::string& message, const char* usage) {
+  std::fprintf(stderr, "%s: %s\n%s\n", tool, message.c_str(), usage);
+  return 2;
 }
 
 bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, int* out,

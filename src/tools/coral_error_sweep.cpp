@@ -31,10 +31,7 @@ constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
     "[--out FILE.csv]";
 
-int fail(const std::string& msg) {
-  std::fprintf(stderr, "coral_error_sweep: %s\n%s\n", msg.c_str(), kUsage);
-  return 2;
-}
+int fail(const std::string& msg) { return core::toolError("coral_error_sweep", msg, kUsage); }
 
 }  // namespace
 

@@ -41,10 +41,7 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--out FILE.csv] [--out_dir DIR]";
 
-int fail(const std::string& msg) {
-  std::fprintf(stderr, "coral_loop_eval: %s\n%s\n", msg.c_str(), kUsage);
-  return 2;
-}
+int fail(const std::string& msg) { return core::toolError("coral_loop_eval", msg, kUsage); }
 
 // Edge uncertainties of the graph [m], [rad]: keyframe odometry (lidar-inertial) is good to a
 // few cm per keyframe; wheel odometry between corrected CARMEN scans (~1 m apart) to ~0.1 m

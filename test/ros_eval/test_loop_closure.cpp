@@ -15,6 +15,7 @@
 #include "coral_introspection/eval/loop_candidates.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
+#include "support/preset.hpp"
 #include "support/test_data.hpp"
 
 using namespace coral_introspection;
@@ -25,14 +26,6 @@ struct LoopTally {
   int true_total = 0, true_accepted = 0, false_total = 0, false_accepted = 0;
   int false_accepted_relative = 0;  // the relative check alone
 };
-
-void loadPreset(const std::string& name, ros_adapters::NodeConfig* node) {
-  core::VerdictConfig verdict;
-  std::string err;
-  ASSERT_TRUE(ros_adapters::loadPresetFile(
-      std::string(CORAL_SOURCE_DIR) + "/config/" + name + ".yaml", node, &verdict, &err))
-      << err;
-}
 
 void judge(const ros_adapters::NodeConfig& node, const core::Scan& a, const core::Scan& b,
            const Eigen::Isometry3d& T_a_b, bool is_true, LoopTally* t) {
@@ -86,7 +79,7 @@ void print(const char* name, const LoopTally& t) {
 TEST(LoopClosure, Lidar3dOnTheLivoxLoop) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   ros_adapters::NodeConfig node;
-  loadPreset("lidar_3d", &node);
+  coral_test::loadPreset("lidar_3d", &node);
   std::vector<core::TrainingScan> scans;
   core::Isometries ref, odom;
   std::string err;
@@ -113,7 +106,7 @@ TEST(LoopClosure, Lidar3dOnTheLivoxLoop) {
 void checkCarmenLoops(const char* label, const std::string& log_path, const std::string& corrected,
                       const std::string& relations, const Expected& expected) {
   ros_adapters::NodeConfig node;
-  loadPreset("lidar_2d", &node);
+  coral_test::loadPreset("lidar_2d", &node);
   LoopTally tally;
   LoopTally* t = &tally;
   std::vector<core::CarmenLaserScan> log;

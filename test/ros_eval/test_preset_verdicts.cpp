@@ -23,6 +23,7 @@
 #include "coral_introspection/eval/verdict_samples.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
+#include "support/preset.hpp"
 #include "support/test_data.hpp"
 
 using namespace coral_introspection;
@@ -73,14 +74,6 @@ struct Tally {
   }
 };
 
-void loadPreset(const std::string& preset, ros_adapters::NodeConfig* node) {
-  core::VerdictConfig verdict;
-  std::string err;
-  ASSERT_TRUE(ros_adapters::loadPresetFile(
-      std::string(CORAL_SOURCE_DIR) + "/config/" + preset + ".yaml", node, &verdict, &err))
-      << err;
-}
-
 void loadData(const ros_adapters::NodeConfig& node, const std::string& spec_text,
               core::PairDataset* d) {
   std::string err;
@@ -125,7 +118,7 @@ void describe(std::size_t i, const core::PairDataset& d, const core::AlignmentVe
 // Judges every pair of `spec` with `preset`.
 void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally* t) {
   ros_adapters::NodeConfig node;
-  loadPreset(preset, &node);
+  coral_test::loadPreset(preset, &node);
   core::PairDataset d;
   loadData(node, spec_text, &d);
   if (::testing::Test::HasFatalFailure()) return;
@@ -172,7 +165,7 @@ void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally
 TEST(PresetVerdicts, OnlineVerdictEqualsTrainingEvaluation) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   ros_adapters::NodeConfig node;
-  loadPreset("radar_oxford", &node);
+  coral_test::loadPreset("radar_oxford", &node);
   core::PairDataset d;
   loadData(node, "oxford:" + coral_data, &d);
   ASSERT_FALSE(::testing::Test::HasFatalFailure());
@@ -298,7 +291,7 @@ struct SweepTally {
 };
 void sweepDataSet(const std::string& preset, const std::string& spec_text, SweepTally* t) {
   ros_adapters::NodeConfig node;
-  loadPreset(preset, &node);
+  coral_test::loadPreset(preset, &node);
   core::PairDataset d;
   loadData(node, spec_text, &d);
   if (::testing::Test::HasFatalFailure()) return;

@@ -26,6 +26,10 @@ struct ToolArgs {
 bool parseToolArgs(int argc, const char* const* argv, const std::vector<std::string>& options,
                    const std::vector<std::string>& flags, ToolArgs* out, std::string* error);
 
+// "<tool>: <message>" and the usage on stderr; returns 2, the tools' exit status for bad
+// arguments or input.
+int toolError(const char* tool, const std::string& message, const char* usage);
+
 // A positive integer option (e.g. "--stride"); false with *error naming it otherwise.
 bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, int* out,
                  std::string* error);
