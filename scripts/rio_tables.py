@@ -7,8 +7,11 @@ Table I: full uncertainty model vs none / without its range part / without its b
 RPE RMSE) and the TI loop (rio_offline on the bag: end-point error, no ground truth).
 
   scripts/rio_tables.py --bin $CORAL_WS/devel/lib/coral_introspection \
-      [--bag ../shared/data/ti_mmwave_demo/ti_mmwave_rospkg_demo.bag] [--work /tmp/rio_tables]
-Prints Markdown (the tables of doc/rio.md).
+      [--bag ../shared/data/ti_mmwave_demo/ti_mmwave_rospkg_demo.bag] [--work /tmp/rio_tables] \
+      [--barometer]
+Prints Markdown (the tables of doc/rio.md). --barometer: sequences simulated with a barometer,
+every row run with barometer/enabled=true (plus a "barometer off" row in Table I), and a third
+figure per cell: vertical APE RMSE (m) / the TI loop's vertical end-point error (m).
 """
 import argparse
 import os
@@ -42,11 +45,19 @@ def run(cmd):
 def sim_metrics(args, seq, kind, sets):
     cmd = [os.path.join(args.bin, "coral_rio_run"), "--sequence", seq, "--config",
            os.path.join(REPO, "config", "rio_sim_%s.yaml" % kind)]
-    for s in sets:
+    for s in baro_sets(args) + sets:
         cmd += ["--set", s]
     out = run(cmd)
     m = re.search(r"APE RMSE: %s m, %s deg; RPE RMSE: %s m, %s deg" % ((FLOAT,) * 4), out)
-    return "%.3f / %.4f" % (float(m.group(1)), float(m.group(3))) if m else "fail"
+    if not m:
+        return "fail"
+    cell = "%.3f / %.4f" % (float(m.group(1)), float(m.group(3)))
+    v = re.search(r"vertical APE RMSE: %s m" % FLOAT, out)
+    return cell + (" / %.3f" % float(v.group(1)) if args.barometer and v else "")
+
+
+def baro_sets(args):
+    return ["barometer/enabled=true"] if args.barometer else []
 
 
 def ti_metrics(args, sets):
@@ -57,17 +68,21 @@ def ti_metrics(args, sets):
     else:  # the bag converted to a text sequence (trigger times already applied)
         cmd = [os.path.join(args.bin, "coral_rio_run"), "--sequence", args.ti_sequence,
                "--config", config, "--loop"]
-    for s in sets:
+    for s in baro_sets(args) + sets:
         cmd += ["--set", s]
     out = run(cmd)
     m = re.search(r"horizontal %s m, vertical %s m, yaw %s deg" % ((FLOAT,) * 3), out)
-    return "%.3f / %.2f" % (float(m.group(1)), abs(float(m.group(3)))) if m else "fail"
+    if not m:
+        return "fail"
+    cell = "%.3f / %.2f" % (float(m.group(1)), abs(float(m.group(3))))
+    return cell + (" / %+.3f" % float(m.group(2)) if args.barometer else "")
 
 
 def table(args, seqs, rows):
-    head = ["setting"] + ["%s %d (APE / RPE m)" % (k, s) for k, s in SIMS]
+    vert = " / vertical APE" if args.barometer else ""
+    head = ["setting"] + ["%s %d (APE / RPE%s m)" % (k, s, vert) for k, s in SIMS]
     if args.bag or args.ti_sequence:
-        head.append("TI loop (end-point m / yaw deg)")
+        head.append("TI loop (end-point m / yaw deg%s)" % (" / vertical m" if vert else ""))
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for label, sets in rows:
         cells = [label] + [sim_metrics(args, seq, k, sets) for (k, _), seq in zip(SIMS, seqs)]
@@ -87,6 +102,8 @@ def main():
                    help="instead of --bag: the TI bag as a coral_rio_run text sequence")
     p.add_argument("--work", default="/tmp/rio_tables")
     p.add_argument("--tables", default="1,2", help="which tables: 1, 2 or 1,2")
+    p.add_argument("--barometer", action="store_true",
+                   help="simulate a barometer and run every row with it (vertical APE)")
     args = p.parse_args()
     args.rio_offline = args.rio_offline or os.path.join(args.bin, "rio_offline")
     os.makedirs(args.work, exist_ok=True)
@@ -94,11 +111,12 @@ def main():
     for kind, seed in SIMS:
         seq = os.path.join(args.work, "%s_%d.seq" % (kind, seed))
         run([os.path.join(args.bin, "coral_rio_simulate"), "--trajectory", kind, "--seed",
-             str(seed), "--output", seq])
+             str(seed), "--output", seq] + (["--barometer"] if args.barometer else []))
         seqs.append(seq)
     if "1" in args.tables:
         print("### Table I: uncertainty model ablation\n")
-        print(table(args, seqs, MODES))
+        off = [("full model, barometer off", ["barometer/enabled=false"])]
+        print(table(args, seqs, MODES + (off if args.barometer else [])))
     if "2" in args.tables:
         print("\n### Table II: point covariances scaled by 2^alpha\n")
         print(table(args, seqs, [("alpha = %+d" % a, ["uncertainty/covariance_scale=%g" % 2.0 ** a])

@@ -4,10 +4,13 @@
 #   1. every test through ctest (gtest of the libraries and the ROS layer, rostest of the
 #      nodelet);
 #   2. scripts/check_format.sh: every tracked C++ file formatted by .clang-format;
-#   3. scripts/check_install.sh: `catkin_make install`, then the nodelet launched from the
+#   3. scripts/mutation_check.sh: six one-line bugs, one at a time in a copy of the sources
+#      (its own kept build folder, ${CORAL_WS}_mutation: one library + test rebuild per
+#      mutant); fails when a pattern no longer matches exactly once or a mutant survives;
+#   4. scripts/check_install.sh: `catkin_make install`, then the nodelet launched from the
 #      install space alone answers check_alignment; no eval code in the plugin;
-#   4. scripts/test_sanitizers.sh: every gtest built with clang, ASan + UBSan and run once;
-#   5. scripts/fuzz.sh: each libFuzzer harness for a fixed number of executions.
+#   5. scripts/test_sanitizers.sh: every gtest built with clang, ASan + UBSan and run once;
+#   6. scripts/fuzz.sh: each libFuzzer harness for a fixed number of executions.
 # All parts run even when one fails; a summary line per part at the end. Exit code != 0 on
 # any failure. Idempotent: installed packages and built objects are reused.
 set -euo pipefail
@@ -32,6 +35,7 @@ run() {
 run "ctest (gtest + rostest)" bash -c \
   "cd '${CORAL_WS}/build/coral_introspection' && ctest --output-on-failure --timeout 900"
 run "clang-format (scripts/check_format.sh)" bash "${CORAL_REPO}/scripts/check_format.sh"
+run "mutation check (scripts/mutation_check.sh)" bash "${CORAL_REPO}/scripts/mutation_check.sh"
 run "install space (scripts/check_install.sh)" bash "${CORAL_REPO}/scripts/check_install.sh"
 run "ASan + UBSan gtests (scripts/test_sanitizers.sh)" bash "${CORAL_REPO}/scripts/test_sanitizers.sh"
 # A short fixed budget per harness (the long runs: scripts/fuzz.sh with its default 10^6).

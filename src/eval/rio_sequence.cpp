@@ -20,13 +20,18 @@ bool writeRioSequence(const std::string& path, const RioSequence& seq, std::stri
     s << std::fixed << std::setprecision(9) << t;
     return s.str();
   };
-  out << "# coral_introspection rio sequence: imu / radar / gt lines in time order\n";
-  std::size_t i = 0, r = 0, g = 0;
+  out << "# coral_introspection rio sequence: imu / radar / gt / baro lines in time order\n";
+  std::size_t i = 0, r = 0, g = 0, b = 0;
   auto next_t = [&](std::size_t k, auto& v) { return k < v.size() ? v[k].t : 1e300; };
-  while (i < seq.imu.size() || r < seq.radar.size() || g < seq.ground_truth.size()) {
+  while (i < seq.imu.size() || r < seq.radar.size() || g < seq.ground_truth.size() ||
+         b < seq.baro.size()) {
     const double ti = next_t(i, seq.imu), tr = next_t(r, seq.radar),
-                 tg = next_t(g, seq.ground_truth);
-    if (ti <= tr && ti <= tg) {
+                 tg = next_t(g, seq.ground_truth), tb = next_t(b, seq.baro);
+    if (tb < ti && tb <= tr && tb <= tg) {
+      out << "baro " << stamp(seq.baro[b].t) << ' ' << std::setprecision(12) << seq.baro[b].pressure
+          << std::setprecision(10) << '\n';
+      ++b;
+    } else if (ti <= tr && ti <= tg) {
       const rio::ImuSample& s = seq.imu[i++];
       out << "imu " << stamp(s.t) << ' ' << s.acc.transpose() << ' ' << s.gyro.transpose() << '\n';
     } else if (tg <= tr) {
@@ -69,6 +74,11 @@ bool readRioSequence(const std::string& path, RioSequence* seq, std::string* err
       s >> x.t >> x.acc.x() >> x.acc.y() >> x.acc.z() >> x.gyro.x() >> x.gyro.y() >> x.gyro.z();
       if (!s) return bad("malformed imu line");
       seq->imu.push_back(x);
+    } else if (kind == "baro") {
+      rio::BaroSample x;
+      s >> x.t >> x.pressure;
+      if (!s) return bad("malformed baro line");
+      seq->baro.push_back(x);
     } else if (kind == "gt") {
       StampedPose p;
       double qx, qy, qz, qw;

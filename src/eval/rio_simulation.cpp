@@ -149,6 +149,21 @@ Points reflectors(const RioSimConfig& c, std::mt19937& rng) {
   return out;
 }
 
+// Barometer samples with their own generator (seeded from the sequence's seed), drawn after
+// everything else so that a sequence with a barometer has the same IMU and radar data.
+void simulateBarometer(const RioSimConfig& c, RioSequence* seq) {
+  std::mt19937 rng(c.seed + 7919u);
+  std::normal_distribution<double> N(0.0, 1.0);
+  const double dt = 1.0 / c.baro_rate;
+  double bias = c.baro_bias;
+  for (int k = 0; k * dt <= c.duration + 1e-9; ++k) {
+    const double h =
+        c.site_altitude + simulatedPose(c, k * dt).p.z() + bias + c.baro_sigma * N(rng);
+    seq->baro.push_back({k * dt, rio::altitudeToPressure(h)});
+    bias += c.baro_bias_walk * std::sqrt(dt) * N(rng);
+  }
+}
+
 }  // namespace
 
 RioSequence simulateRio(const RioSimConfig& c) {
@@ -224,6 +239,7 @@ RioSequence simulateRio(const RioSimConfig& c) {
     seq.radar.push_back(std::move(f));
     seq.ground_truth.push_back(kin.pose);
   }
+  if (c.barometer) simulateBarometer(c, &seq);
   return seq;
 }
 

@@ -17,6 +17,13 @@
 // scan j alone: pairs (j-1, j) and (j, j+1) are inconsistent. A pair counts as an
 // injected error when the relative pose between its two scans differs from the truth.
 //
+// Result file (~result_file, optional; scripts/demo.sh sets it): "pid <pid>" right after
+// start, then, replaced atomically when the node ends, its summary lines (not printed on
+// stdout then) and "exit_code <code>": the script that started roslaunch stops it and
+// prints the summary last. Exit code 0 when the sequence was replayed and at least one
+// pair judged (misses and false alarms are results, not failures), 1 otherwise, 2 on
+// invalid parameters.
+//
 // Lock step: after scan i the node waits (up to ~result_timeout) for the verdict whose
 // stamp_b is scan i's stamp, so results do not depend on CPU load. Stamps advance by the
 // sequence's own timing whatever the wall time (holds for screenshots included).
@@ -32,6 +39,7 @@
 #include <algorithm>
 #include <condition_variable>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <random>
@@ -71,6 +79,7 @@ struct DemoConfig {
   std::string oxford_folder;           // oxford mode: dataset folder, converted to a bag first
   std::string bag;                     // oxford mode: existing bag (oxford_to_bag output)
   std::string image_topic = "/radar/polar";  // oxford mode: image topic in the bag
+  std::string result_file;                   // summary and exit code for scripts/demo.sh
 
   std::string validate() const {
     std::ostringstream e;
@@ -129,7 +138,31 @@ DemoConfig loadConfig(ros::NodeHandle& pnh) {
   pnh.param("oxford_folder", c.oxford_folder, c.oxford_folder);
   pnh.param("bag", c.bag, c.bag);
   pnh.param("image_topic", c.image_topic, c.image_topic);
+  pnh.param("result_file", c.result_file, c.result_file);
   return c;
+}
+
+// ~result_file: written whole to a temporary file, then renamed over it (a reader sees the
+// pid line or the complete result, never a partial one). No-op without ~result_file.
+void writeResultFile(const std::string& path, const std::string& text) {
+  if (path.empty()) return;
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << text;
+    if (!f) {
+      ROS_ERROR("coral_sequence_demo: cannot write %s", tmp.c_str());
+      return;
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    ROS_ERROR("coral_sequence_demo: cannot rename %s to %s", tmp.c_str(), path.c_str());
+}
+
+// Ends the node: the failure reason (if any) and the exit code into ~result_file.
+int finish(const DemoConfig& cfg, int code, const std::string& summary) {
+  writeResultFile(cfg.result_file, summary + "exit_code " + std::to_string(code) + "\n");
+  return code;
 }
 
 // The scans to replay with their true poses and timing.
@@ -265,9 +298,10 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "coral_sequence_demo");
   ros::NodeHandle nh, pnh("~");
   const DemoConfig cfg = loadConfig(pnh);
+  writeResultFile(cfg.result_file, "pid " + std::to_string(getpid()) + "\n");
   if (const std::string err = cfg.validate(); !err.empty()) {
     ROS_FATAL("coral_sequence_demo: invalid parameters: %s", err.c_str());
-    return 2;
+    return finish(cfg, 2, "[coral_sequence_demo] FAILED: invalid parameters: " + err + "\n");
   }
   Sequence seq;
   const bool radar = cfg.mode == "oxford";
@@ -275,7 +309,7 @@ int main(int argc, char** argv) {
     std::string error;
     if (!readOxfordBag(cfg, &seq, &error)) {
       ROS_FATAL("coral_sequence_demo: %s", error.c_str());
-      return 1;
+      return finish(cfg, 1, "[coral_sequence_demo] FAILED: " + error + "\n");
     }
   } else {
     seq = simulateSequence(cfg);
@@ -299,7 +333,7 @@ int main(int argc, char** argv) {
     if ((ros::WallTime::now() - t0).toSec() > cfg.start_timeout) {
       ROS_FATAL("coral_sequence_demo: no subscriber on '%s' / publisher of '%s' after %.0f s",
                 pub.getTopic().c_str(), sub.getTopic().c_str(), cfg.start_timeout);
-      return 1;
+      return finish(cfg, 1, "[coral_sequence_demo] FAILED: the nodelet did not connect\n");
     }
     ros::WallDuration(0.1).sleep();
   }
@@ -317,7 +351,8 @@ int main(int argc, char** argv) {
   std::map<uint64_t, int> index_of_stamp;
   bool held = false;
   ros::WallRate rate(cfg.rate);
-  for (int i = 0; i < n && ros::ok(); ++i) {
+  int published = 0;
+  for (int i = 0; i < n && ros::ok(); ++i, ++published) {
     const ros::Time stamp = t_start + ros::Duration(seq.times[i]);
     index_of_stamp[stamp.toNSec()] = i;
     geometry_msgs::TransformStamped tf_msg;
@@ -375,16 +410,28 @@ int main(int argc, char** argv) {
       clean_flagged += flagged;
     }
   }
-  std::printf("[coral_sequence_demo] summary (%d scan pairs judged, %d of them without verdict):\n",
-              inj + clean, no_verdict);
-  std::printf("  injected errors flagged: %d/%d\n", inj_flagged, inj);
-  std::printf("  clean pairs falsely flagged: %d/%d\n", clean_flagged, clean);
-  std::printf("[coral_sequence_demo] done: %s\n",
-              (inj_flagged == inj && clean_flagged == 0 && inj + clean > 0)
-                  ? "every injected error flagged, no false alarm"
-                  : "see the pairs above for misses / false alarms");
+  const int code = (published == n && inj + clean > 0) ? 0 : 1;
+  char buf[512];
+  std::string summary;
+  std::snprintf(
+      buf, sizeof(buf),
+      "[coral_sequence_demo] summary (%d scan pairs judged, %d of them without verdict):\n"
+      "  injected errors flagged: %d/%d\n  clean pairs falsely flagged: %d/%d\n",
+      inj + clean, no_verdict, inj_flagged, inj, clean_flagged, clean);
+  summary += buf;
+  if (published < n)
+    std::snprintf(buf, sizeof(buf), "interrupted after %d of %d scans", published, n);
+  else if (inj + clean == 0)
+    std::snprintf(buf, sizeof(buf), "no pair judged (no verdict received)");
+  else if (inj_flagged == inj && clean_flagged == 0)
+    std::snprintf(buf, sizeof(buf), "every injected error flagged, no false alarm");
+  else
+    std::snprintf(buf, sizeof(buf), "see the pairs above for misses / false alarms");
+  summary +=
+      std::string("[coral_sequence_demo] ") + (code == 0 ? "done: " : "FAILED: ") + buf + "\n";
+  if (cfg.result_file.empty()) std::fputs(summary.c_str(), stdout);
   std::fflush(stdout);
   spinner.stop();
   ros::shutdown();
-  return 0;
+  return finish(cfg, code, summary);
 }

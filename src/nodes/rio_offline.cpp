@@ -14,6 +14,7 @@
 // figure are written then. Usage errors: exit status 2.
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <sensor_msgs/FluidPressure.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
@@ -53,7 +54,7 @@ std::string checkTopic(const std::map<std::string, std::string>& topics, const s
          " topics: " + (list.empty() ? "none" : list);
 }
 
-std::string checkTopics(rosbag::Bag& bag, const ros_adapters::RioInputConfig& in) {
+std::string checkTopics(rosbag::Bag& bag, const ros_adapters::RioInputConfig& in, bool baro) {
   rosbag::View all(bag);
   if (all.size() == 0) return "the bag has no messages";
   std::map<std::string, std::string> topics;
@@ -63,6 +64,8 @@ std::string checkTopics(rosbag::Bag& bag, const ros_adapters::RioInputConfig& in
     why = checkTopic(topics, in.radar_topic, "sensor_msgs/PointCloud2", "radar_topic");
   if (why.empty() && in.time_source == "trigger")
     why = checkTopic(topics, in.trigger_topic, "std_msgs/Header", "trigger_topic");
+  if (why.empty() && baro)  // barometer/enabled: its topic must be there too
+    why = checkTopic(topics, in.baro_topic, "sensor_msgs/FluidPressure", "baro_topic");
   return why;
 }
 
@@ -161,10 +164,11 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     return refuse("cannot open " + bag_path + ": " + e.what());
   }
-  const std::string topic_problem = checkTopics(bag, in_cfg);
+  const std::string topic_problem = checkTopics(bag, in_cfg, cfg.barometer.enabled);
   if (!topic_problem.empty()) return refuse(bag_path + ": " + topic_problem);
   std::vector<std::string> topics = {in_cfg.imu_topic, in_cfg.radar_topic};
   if (!in_cfg.trigger_topic.empty()) topics.push_back(in_cfg.trigger_topic);
+  if (cfg.barometer.enabled) topics.push_back(in_cfg.baro_topic);
   rosbag::View view(bag, rosbag::TopicQuery(topics));
 
   rio::Estimator est(cfg);
@@ -203,6 +207,14 @@ int main(int argc, char** argv) {
         if (!err.empty()) last_input_error = err;
         // A driver gives the field in every scan or in none: the first missing one decides.
         if (input.counters().no_velocity_field > 0) refusal = in_cfg.radar_topic + ": " + err;
+      } else if (cfg.barometer.enabled && m.getTopic() == in_cfg.baro_topic) {
+        sensor_msgs::FluidPressure::ConstPtr msg = m.instantiate<sensor_msgs::FluidPressure>();
+        rio::BaroSample s;
+        if (!msg || !input.baro(*msg, &s, &err)) {
+          last_input_error = err;
+          continue;
+        }
+        est.addBaro(s);
       } else if (in_cfg.time_source == "trigger" && m.getTopic() == in_cfg.trigger_topic) {
         std_msgs::Header::ConstPtr msg = m.instantiate<std_msgs::Header>();
         if (!msg) continue;
@@ -225,6 +237,9 @@ int main(int argc, char** argv) {
             << ", empty scans " << c.empty_scans << ", scans without Doppler "
             << c.no_doppler + ic.no_velocity_field << ", unmatched scans "
             << ic.unmatched_scans + input.waitingScans() << "\n";
+  if (cfg.barometer.enabled)
+    std::cout << "barometer: frames with a residual " << c.baro_frames << ", bad samples "
+              << c.bad_baro + ic.bad_baro << "\n";
   if (!arrival_lag.empty()) {
     std::nth_element(arrival_lag.begin(), arrival_lag.begin() + arrival_lag.size() / 2,
                      arrival_lag.end());

@@ -104,6 +104,7 @@ std::string RioConfig::validate() const {
       .nested("init", init.validate())
       .nested("zero_velocity", zero_velocity.validate())
       .nested("health", health.validate())
+      .nested("barometer", barometer.validate())
       .str();
 }
 

@@ -126,7 +126,10 @@ bool readAll(Reader& r, RioConfig* c) {
       r.get("health/max_speed", &h.max_speed) && r.get("health/max_acc_bias", &h.max_acc_bias) &&
       r.get("health/max_gyro_bias", &h.max_gyro_bias) &&
       r.get("health/max_correction", &h.max_correction) &&
-      r.get("health/max_imu_gap", &h.max_imu_gap);
+      r.get("health/max_imu_gap", &h.max_imu_gap) &&
+      r.get("barometer/enabled", &c->barometer.enabled) &&
+      r.get("barometer/sigma", &c->barometer.sigma) &&
+      r.get("barometer/bias_walk", &c->barometer.bias_walk);
   if (!ok) return false;
   if (t.size() == 3) c->extrinsics.t = Vec3(t[0], t[1], t[2]);
   if (q.size() == 4) {

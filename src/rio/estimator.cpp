@@ -37,6 +37,7 @@ void Estimator::reset() {
   input_error_.clear();
   imu_.clear();
   pending_.clear();
+  baro_.clear();
   window_.clear();
   prior_.reset();
   prior_blocks_.clear();
@@ -205,6 +206,7 @@ FrameReport Estimator::process(const RadarFrame& f) {
     toBlocks(x, &w->x);
     w->omega = interval.back().gyro;
     w->standing = fe.standing;
+    attachBaro(t_prev, nullptr, w.get());
     window_.push_back(std::move(w));
     const InitConfig& ic = cfg_.init;
     Vec15 sigma;
@@ -236,6 +238,7 @@ FrameReport Estimator::process(const RadarFrame& f) {
   NavState pred = w->pre->predict(prev_state);
   pred.t = f.t;
   toBlocks(pred, &w->x);
+  attachBaro(prev.t, &prev, w.get());
   w->omega = interval.back().gyro;
   const Vec3 v_pred = radarVelocity(pred, w->omega);
   const FrontEndResult fe = processRadarFrame(f, cfg_, &v_pred);
@@ -280,12 +283,19 @@ FrameReport Estimator::process(const RadarFrame& f) {
   }
 
   std::vector<NavState> before;
-  for (const auto& fr : window_) before.push_back(fr->state());
+  std::vector<double> bias_before;
+  for (const auto& fr : window_) {
+    before.push_back(fr->state());
+    bias_before.push_back(fr->baro_bias[0]);
+  }
   const bool solved = solve(&report);
   const std::string problem = solved ? checkHealth(pred) : "the solver failed";
   if (!problem.empty()) {
     ++counters_.failed_solves;
-    for (std::size_t k = 0; k < window_.size(); ++k) toBlocks(before[k], &window_[k]->x);
+    for (std::size_t k = 0; k < window_.size(); ++k) {
+      toBlocks(before[k], &window_[k]->x);
+      window_[k]->baro_bias[0] = bias_before[k];
+    }
     report.status = FrameStatus::kReset;
     softReset(pred, 0.5, problem, &report);
     return report;
@@ -355,6 +365,7 @@ void Estimator::softReset(const NavState& s, double sigma_velocity, const std::s
   toBlocks(s, &last->x);
   last->static_points.clear();
   last->standing = last->gyro_still = false;
+  last->has_baro = last->has_baro_bias = false;  // the bias restarts at the next reading
   window_.push_back(std::move(last));
   ++counters_.resets;
   Vec15 sigma;

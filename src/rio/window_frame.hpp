@@ -21,6 +21,12 @@ struct Estimator::WindowFrame {
   bool gyro_still = false;                // standing and the IMU did not rotate
   Vec3 gyro_mean = Vec3::Zero();          // mean raw rate of the interval before t
   double gyro_sigma = 0.0;                // [rad/s] of gyro_mean as a bias measurement
+  // Barometer (barometer.hpp). The bias block exists from the first frame with a reading
+  // on (then every later frame has one, tied by the random walk) until a reset.
+  bool has_baro_bias = false;
+  double baro_bias[1] = {0.0};  // [m] barometer height minus body height
+  bool has_baro = false;        // a residual: mean height of the samples before t
+  double baro_height = 0.0, baro_dt = 0.0, baro_sigma = 1.0;  // h_i, tau_i - t_i, sigma_i
 
   NavState state() const {
     NavState s;

@@ -3,9 +3,11 @@
 #include <ceres/ceres.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <set>
 
+#include "coral_introspection/rio/barometer.hpp"
 #include "coral_introspection/rio/estimator.hpp"
 #include "coral_introspection/rio/imu_factor.hpp"
 #include "coral_introspection/rio/point_uncertainty.hpp"
@@ -44,6 +46,10 @@ std::vector<Estimator::FactorRef> Estimator::unaryFactors(const WindowFrame& f) 
         {std::make_shared<ZeroVelocityFactor>(cfg_.zero_velocity.sigma_velocity), nullptr, {sb}});
   if (f.gyro_still)
     out.push_back({std::make_shared<GyroBiasFactor>(f.gyro_mean, f.gyro_sigma), nullptr, {sb}});
+  if (f.has_baro)
+    out.push_back({std::make_shared<BaroFactor>(f.baro_height, f.baro_dt, f.baro_sigma),
+                   nullptr,
+                   {pose, sb, const_cast<double*>(f.baro_bias)}});
   return out;
 }
 
@@ -89,7 +95,10 @@ bool Estimator::solve(FrameReport* report) {
     WindowFrame& f = *window_[k];
     problem.AddParameterBlock(f.x.pose, 7, poseManifold());
     problem.AddParameterBlock(f.x.speed_bias, 9);
+    if (f.has_baro_bias) problem.AddParameterBlock(f.baro_bias, 1);
+    FactorRef walk;
     if (k > 0) factors.push_back(imuFactor(*window_[k - 1], f));
+    if (k > 0 && baroWalkFactor(*window_[k - 1], f, &walk)) factors.push_back(std::move(walk));
     for (FactorRef& r : unaryFactors(f)) {
       report->doppler_residuals += dynamic_cast<DopplerFactor*>(r.cost.get()) != nullptr;
       factors.push_back(std::move(r));
@@ -149,7 +158,7 @@ std::string Estimator::checkHealth(const NavState& predicted) const {
   for (const auto& f : window_) {
     const NavState s = f->state();
     if (!s.p.allFinite() || !s.q.coeffs().allFinite() || !s.v.allFinite() || !s.ba.allFinite() ||
-        !s.bg.allFinite())
+        !s.bg.allFinite() || !std::isfinite(f->baro_bias[0]))
       return "non-finite state after the solve";
   }
   const NavState s = window_.back()->state();
@@ -204,6 +213,9 @@ void Estimator::slide() {
     if (prior_) marg.add(prior_, nullptr, prior_blocks_);
     const FactorRef imu = imuFactor(oldest, next);
     marg.add(imu.cost, imu.loss, imu.blocks);
+    FactorRef walk;  // the barometer bias goes with its state (kept in the prior via the walk)
+    if (baroWalkFactor(oldest, next, &walk)) marg.add(walk.cost, walk.loss, walk.blocks);
+    if (oldest.has_baro_bias) drop.insert(oldest.baro_bias);
     for (const FactorRef& r : unaryFactors(oldest)) marg.add(r.cost, r.loss, r.blocks);
     for (auto& [id, t] : tracks_.all()) {
       if (!t.landmark || t.fixed || t.obs.empty() || t.obs.front().frame != oldest.id) continue;

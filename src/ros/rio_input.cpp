@@ -45,8 +45,8 @@ bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string
   }
   // A misspelt key would leave a topic at its default: an error, as in the estimator's groups.
   *error = rio::unknownKeys(node,
-                            {"imu_topic", "radar_topic", "trigger_topic", "time_source",
-                             "velocity_field", "trigger_seq_offset"},
+                            {"imu_topic", "radar_topic", "trigger_topic", "baro_topic",
+                             "time_source", "velocity_field", "trigger_seq_offset"},
                             {}, "ros/");
   if (!error->empty()) return false;
   try {
@@ -57,6 +57,7 @@ bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string
       get("imu_topic", &cfg->imu_topic);
       get("radar_topic", &cfg->radar_topic);
       get("trigger_topic", &cfg->trigger_topic);
+      get("baro_topic", &cfg->baro_topic);
       get("time_source", &cfg->time_source);
       get("velocity_field", &cfg->velocity_field);
       get("trigger_seq_offset", &cfg->trigger_seq_offset);
@@ -77,6 +78,18 @@ bool RioInput::imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string
   if (!(out->t > 0.0) || !out->acc.allFinite() || !out->gyro.allFinite()) {
     ++counters_.bad_imu;
     *error = "IMU sample with a zero stamp or a non-finite value dropped";
+    return false;
+  }
+  return true;
+}
+
+bool RioInput::baro(const sensor_msgs::FluidPressure& msg, rio::BaroSample* out,
+                    std::string* error) {
+  out->t = msg.header.stamp.toSec();
+  out->pressure = msg.fluid_pressure;  // [Pa] (sensor_msgs/FluidPressure)
+  if (!(out->t > 0.0) || !std::isfinite(out->pressure) || !(out->pressure > 0.0)) {
+    ++counters_.bad_baro;
+    *error = "barometer sample with a zero stamp or a pressure that is not positive dropped";
     return false;
   }
   return true;

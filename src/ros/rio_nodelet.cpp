@@ -140,6 +140,8 @@ void RioNodelet::onInit() {
   radar_sub_ = nh.subscribe("radar", 50, &RioNodelet::radarCb, this);
   if (input_->usesTrigger())
     trigger_sub_ = nh.subscribe("trigger", 50, &RioNodelet::triggerCb, this);
+  if (cfg.barometer.enabled)  // remap "baro" (the config's ros/baro_topic names the bag's)
+    baro_sub_ = nh.subscribe("baro", 500, &RioNodelet::baroCb, this);
   NODELET_INFO("rio: config %s, radar time from %s, extrinsics from %s", config_file.c_str(),
                in_cfg.time_source.c_str(), extrinsics_source_.c_str());
 }
@@ -185,6 +187,21 @@ void RioNodelet::imuCb(const sensor_msgs::ImuConstPtr& msg) {
       return;
     }
     if (estimator_) handle(estimator_->addImu(s));
+  });
+}
+
+void RioNodelet::baroCb(const sensor_msgs::FluidPressureConstPtr& msg) {
+  guarded("barometer callback", [&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++counters_.baro;
+    rio::BaroSample s;
+    std::string err;
+    if (!input_->baro(*msg, &s, &err)) {
+      last_problem_ = err;
+      NODELET_WARN_THROTTLE(5.0, "%s", err.c_str());
+      return;
+    }
+    if (estimator_) estimator_->addBaro(s);
   });
 }
 
@@ -376,6 +393,9 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("imu messages", counters_.imu);
   stat.add("radar messages", counters_.scans);
   stat.add("trigger messages", counters_.triggers);
+  stat.add("barometer messages", counters_.baro);
+  stat.add("frames with a barometer residual", c.baro_frames);
+  stat.add("bad barometer messages", ic.bad_baro + c.bad_baro);
   stat.add("frames", counters_.frames);
   stat.add("tracked frames", counters_.tracked);
   stat.add("resets", c.resets);

@@ -1,9 +1,9 @@
 // Writes a simulated radar-inertial sequence with ground truth (eval/rio_simulation.hpp)
 // in the text format of eval/rio_sequence.hpp:
 //   coral_rio_simulate --trajectory handheld|vehicle [--seed N] [--reflectors N]
-//                      [--noise-scale K] --output FILE.seq
+//                      [--noise-scale K] [--barometer] --output FILE.seq
 // (--reflectors overrides the scene's reflector count, --noise-scale multiplies the polar
-// point noise.)
+// point noise, --barometer adds barometer samples: RioSimConfig's baro_* settings.)
 #include <iostream>
 #include <string>
 
@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   unsigned seed = 1;
   int reflectors = -1;
   double noise_scale = 1.0;
+  bool barometer = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const std::string v = i + 1 < argc ? argv[i + 1] : "";
@@ -31,6 +32,8 @@ int main(int argc, char** argv) {
     } else if (a == "--noise-scale") {
       noise_scale = std::stod(v);
       ++i;
+    } else if (a == "--barometer") {
+      barometer = true;
     } else if (a == "--output") {
       output = v;
       ++i;
@@ -41,12 +44,13 @@ int main(int argc, char** argv) {
   }
   if (output.empty() || (trajectory != "handheld" && trajectory != "vehicle")) {
     std::cerr << "usage: coral_rio_simulate --trajectory handheld|vehicle [--seed N] "
-                 "[--reflectors N] [--noise-scale K] --output FILE.seq\n";
+                 "[--reflectors N] [--noise-scale K] [--barometer] --output FILE.seq\n";
     return 2;
   }
   core::RioSimConfig cfg = trajectory == "handheld" ? core::RioSimConfig::handheld(seed)
                                                     : core::RioSimConfig::vehicle(seed);
   if (reflectors > 0) cfg.num_reflectors = reflectors;
+  cfg.barometer = barometer;
   cfg.point_noise.sigma_range *= noise_scale;
   cfg.point_noise.sigma_azimuth *= noise_scale;
   cfg.point_noise.sigma_elevation *= noise_scale;
@@ -57,7 +61,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::cout << "wrote " << seq.imu.size() << " IMU samples, " << seq.radar.size()
-            << " radar frames, " << seq.ground_truth.size() << " ground-truth poses to " << output
-            << "\n";
+            << " radar frames, " << seq.ground_truth.size() << " ground-truth poses, "
+            << seq.baro.size() << " barometer samples to " << output << "\n";
   return 0;
 }

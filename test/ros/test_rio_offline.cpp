@@ -142,6 +142,39 @@ TEST(RioOffline, TiBagGivesItsTrajectory) {
   EXPECT_NE(r.out.find("loop end-point error: horizontal 0.05"), std::string::npos) << r.out;
 }
 
+// The TI config with the barometer on (barometer/sigma as set there or the default) and
+// ros/baro_topic replaced when `baro_topic` is given.
+std::string tiConfigWithBarometer(const std::string& name, const std::string& baro_topic = "") {
+  YAML::Node root = YAML::LoadFile(kTiConfig);
+  root["barometer"]["enabled"] = true;
+  if (!baro_topic.empty()) root["ros"]["baro_topic"] = baro_topic;
+  YAML::Emitter e;
+  e << root;
+  return writeConfig(name, e.c_str());
+}
+
+// The barometer removes the loop's vertical drift (-1.34 m without it; doc/rio.md: the
+// barometer's start and end heights agree to 0.04 m). In-sample: the TI loop is the data
+// barometer/sigma was chosen on.
+TEST(RioOffline, TiBagWithTheBarometerEndsAtItsStartHeight) {
+  CORAL_REQUIRE_DATA("ti_mmwave_demo");
+  const Result r =
+      rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", tiConfigWithBarometer("baro"), "baro");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("barometer: frames with a residual 40"), std::string::npos) << r.out;
+  const std::size_t at = r.out.find(" m, vertical ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_LT(std::abs(std::stod(r.out.substr(at + 13))), 0.1) << r.out;
+}
+
+TEST(RioOffline, BarometerTopicMissingIsRefused) {
+  CORAL_REQUIRE_DATA("ti_mmwave_demo");
+  expectRefused(rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag",
+                           tiConfigWithBarometer("nobaro", "/sensor_platform/pressure"), "nobaro"),
+                "the bag has no topic '/sensor_platform/pressure' (ros/baro_topic) (did you mean "
+                "/sensor_platform/baro?)");
+}
+
 // Config errors come before the bag is opened: no data needed.
 TEST(RioOffline, ConfigErrorsAreRefusedNamingTheKey) {
   const std::string bag = tempPath("rio_not_read", ".bag");

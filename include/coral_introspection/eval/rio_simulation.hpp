@@ -3,7 +3,8 @@
 // scattered outdoor scene, automotive radar); radar points with polar noise (range,
 // azimuth, elevation: the paper's model, Sec. III-B) and Doppler noise, moving-object
 // outliers and missed detections; IMU samples with white noise and bias random walks.
-// Both loops start and end at rest, at the same pose.
+// Both loops start and end at rest, at the same pose. Optionally a barometer: the true
+// height plus a random-walk bias and white noise, as static pressure (standard atmosphere).
 #pragma once
 
 #include <string>
@@ -37,6 +38,13 @@ struct RioSimConfig {
   int max_points = 80;             // strongest (closest) detections kept per frame
   double outlier_fraction = 0.05;  // of the points: movers (random Doppler) at random places
   int num_reflectors = 500;
+  // Barometer (off: no samples, and the random draws of the other sensors are unchanged).
+  bool barometer = false;
+  double baro_rate = 50.0;         // [Hz] (the TI recording's: 51 Hz)
+  double baro_sigma = 0.3;         // [m] white noise of one sample
+  double baro_bias = 0.4;          // [m] initial bias (reading minus true height)
+  double baro_bias_walk = 0.0005;  // [m / sqrt(s)]
+  double site_altitude = 300.0;    // [m] of the world origin (sets the pressure level)
   unsigned seed = 1;
 
   // The two sequences of the evaluation (doc/rio.md): TI-like hand-held loop in a room,

@@ -6,6 +6,7 @@
 
 #include "coral_introspection/radar/doppler.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
+#include "coral_introspection/rio/barometer.hpp"
 #include "coral_introspection/rio/preintegration.hpp"
 #include "coral_introspection/rio/radar_factors.hpp"
 
@@ -123,6 +124,7 @@ struct RioConfig {
   InitConfig init;
   ZeroVelocityConfig zero_velocity;
   HealthConfig health;
+  BarometerConfig barometer;     // height from pressure with a random-walk bias (barometer.hpp)
   std::string validate() const;  // empty when valid
 };
 

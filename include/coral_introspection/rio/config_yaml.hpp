@@ -2,9 +2,9 @@
 // the ROS-free tools and the nodelet (its parameter tree converted to YAML). Keys mirror
 // the config structs: imu/..., extrinsics/translation [x, y, z], extrinsics/rotation
 // [qx, qy, qz, qw], radar_time_offset, uncertainty/..., front_end/..., association/...,
-// solver/..., init/..., zero_velocity/..., health/.... Missing settings keep their defaults,
-// except the extrinsics (no default is right for a sensor rig: identity would be a guess).
-// A key no setting reads is an error naming the nearest valid key. Never throws.
+// solver/..., init/..., zero_velocity/..., health/..., barometer/.... Missing settings keep their
+// defaults, except the extrinsics (no default is right for a sensor rig: identity would be a
+// guess). A key no setting reads is an error naming the nearest valid key. Never throws.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

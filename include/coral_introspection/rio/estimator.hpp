@@ -50,6 +50,8 @@ struct RioCounters {
   long imu_out_of_order = 0, time_jumps = 0, imu_gaps = 0, empty_scans = 0, no_doppler = 0;
   long standing_frames = 0;
   long gap_bridged = 0;  // IMU-gap frames placed with the Doppler velocity (subset of imu_gaps)
+  long baro_frames = 0;  // frames with a barometer residual (barometer/enabled)
+  long bad_baro = 0;     // barometer samples dropped (non-finite, not positive, out of order)
 };
 
 class Estimator {
@@ -62,6 +64,9 @@ class Estimator {
   // frame waits until the IMU covers its time).
   std::vector<FrameReport> addImu(const ImuSample& s);
   std::vector<FrameReport> addRadar(RadarFrame frame);
+  // Barometer samples (pressure in Pa), same clock; used only with barometer/enabled. A frame
+  // uses the samples of the interval before it that arrived before the frame is processed.
+  void addBaro(const BaroSample& s);
 
   // When true, each tracked frame's report carries the newest state's covariance.
   void setComputeCovariance(bool on) { compute_covariance_ = on; }
@@ -103,6 +108,9 @@ class Estimator {
   FactorRef imuFactor(const WindowFrame& prev, const WindowFrame& f) const;
   void trackFactors(const Track& t, std::vector<FactorRef>* out) const;
   std::vector<FactorRef> pointFactors(int* count) const;
+  // Barometer (barometer.hpp): the frame's mean height and bias state, the bias walk.
+  void attachBaro(double t_from, const WindowFrame* prev, WindowFrame* f);
+  bool baroWalkFactor(const WindowFrame& prev, const WindowFrame& f, FactorRef* out) const;
   bool solve(FrameReport* report);
   std::string checkHealth(const NavState& predicted) const;
   void rejectOutliers(FrameReport* report);
@@ -114,6 +122,7 @@ class Estimator {
   std::string input_error_;
   std::deque<ImuSample> imu_;
   std::deque<RadarFrame> pending_;
+  std::deque<std::pair<double, double>> baro_;  // (t, altitude [m]) not yet used by a frame
   std::deque<std::unique_ptr<WindowFrame>> window_;
   std::shared_ptr<ceres::CostFunction> prior_;  // marginalisation prior or initial StatePrior
   std::vector<double*> prior_blocks_;

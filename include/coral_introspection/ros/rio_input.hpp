@@ -7,6 +7,7 @@
 #pragma once
 
 #include <geometry_msgs/Transform.h>
+#include <sensor_msgs/FluidPressure.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/rio/barometer.hpp"
 #include "coral_introspection/rio/radar_factors.hpp"
 #include "coral_introspection/rio/trigger_matcher.hpp"
 #include "coral_introspection/rio/types.hpp"
@@ -24,10 +26,12 @@ namespace ros_adapters {
 
 // The adapter settings: the `ros` group of a rio YAML file (config/rio_ti_mmwave.yaml).
 struct RioInputConfig {
-  std::string imu_topic = "imu";       // rio_offline: bag topic; the nodelet subscribes "imu"
-  std::string radar_topic = "radar";   // rio_offline: bag topic; the nodelet subscribes "radar"
-  std::string trigger_topic = "";      // rio_offline: bag topic; the nodelet "trigger"
-  std::string time_source = "header";  // header | trigger
+  std::string imu_topic = "imu";      // rio_offline: bag topic; the nodelet subscribes "imu"
+  std::string radar_topic = "radar";  // rio_offline: bag topic; the nodelet subscribes "radar"
+  std::string trigger_topic = "";     // rio_offline: bag topic; the nodelet "trigger"
+  // sensor_msgs/FluidPressure [Pa]; read only with barometer/enabled. The nodelet "baro".
+  std::string baro_topic = "baro";
+  std::string time_source = "header";       // header | trigger
   std::string velocity_field = "velocity";  // PointCloud2 field of the radial velocity [m/s]
   int trigger_seq_offset = 0;               // trigger seq = scan seq + offset
   std::string validate() const;             // empty when valid
@@ -38,7 +42,7 @@ struct RioInputConfig {
 bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error);
 
 struct RioInputCounters {
-  long bad_imu = 0, bad_clouds = 0, no_velocity_field = 0, unmatched_scans = 0;
+  long bad_imu = 0, bad_clouds = 0, no_velocity_field = 0, unmatched_scans = 0, bad_baro = 0;
 };
 
 // A radar frame back to a PointCloud2 (float32 x, y, z and the radial velocity under
@@ -60,6 +64,8 @@ class RioInput {
 
   // False with *error on a non-finite sample or a zero stamp.
   bool imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string* error);
+  // False with *error on a zero stamp or a pressure that is not a positive finite number.
+  bool baro(const sensor_msgs::FluidPressure& msg, rio::BaroSample* out, std::string* error);
   // The radar frames this scan completes (with time_source trigger, a scan waits for its
   // trigger). A cloud without the radial-velocity field gives no frame (counted) and *error
   // names the fields it has; *error is empty for a good cloud.

@@ -1,7 +1,8 @@
 // RioNodelet: the radar-inertial odometry (rio::Estimator) on live topics. Thin: converts
 // inputs with ros/rio_input.hpp, feeds the estimator, publishes what it reports.
 //   in:  radar (sensor_msgs/PointCloud2 with a radial-velocity field), imu (sensor_msgs/Imu),
-//        trigger (std_msgs/Header, when the config's ros/time_source is trigger)
+//        trigger (std_msgs/Header, when the config's ros/time_source is trigger),
+//        baro (sensor_msgs/FluidPressure, when the config's barometer/enabled is true)
 //   out: odometry (nav_msgs/Odometry with covariance), TF odom_frame -> base_frame, path
 //        (nav_msgs/Path), landmarks (PointCloud2, odom frame), radar_stamped (each radar
 //        frame with its measurement time and frame radar_frame when the cloud has none:
@@ -25,6 +26,7 @@
 #include <nav_msgs/Path.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
+#include <sensor_msgs/FluidPressure.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
@@ -47,7 +49,7 @@ namespace coral_introspection {
 class RioNodelet : public nodelet::Nodelet {
  private:
   struct Counters {
-    long imu = 0, scans = 0, triggers = 0, frames = 0, tracked = 0, errors = 0;
+    long imu = 0, scans = 0, triggers = 0, baro = 0, frames = 0, tracked = 0, errors = 0;
     long waiting_for_extrinsics = 0;  // radar frames dropped before the TF extrinsics were known
   };
 
@@ -62,6 +64,7 @@ class RioNodelet : public nodelet::Nodelet {
   void imuCb(const sensor_msgs::ImuConstPtr& msg);
   void radarCb(const sensor_msgs::PointCloud2ConstPtr& msg);
   void triggerCb(const std_msgs::HeaderConstPtr& msg);
+  void baroCb(const sensor_msgs::FluidPressureConstPtr& msg);
   // Called with mutex_ held.
   void handle(const std::vector<rio::FrameReport>& reports);
   void publish(const rio::FrameReport& r);
@@ -92,7 +95,7 @@ class RioNodelet : public nodelet::Nodelet {
   rio::FrameStatus last_status_ = rio::FrameStatus::kInitializing;
   nav_msgs::Path path_;
 
-  ros::Subscriber imu_sub_, radar_sub_, trigger_sub_;
+  ros::Subscriber imu_sub_, radar_sub_, trigger_sub_, baro_sub_;
   ros::Publisher odom_pub_, path_pub_, landmarks_pub_, stamped_pub_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
   std::shared_ptr<diagnostic_updater::Updater> updater_;
