@@ -73,8 +73,12 @@ TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
   const std::string cpp = ownDir() + "/coral_loop_closure_example";
   ASSERT_EQ(access(cpp.c_str(), X_OK), 0) << cpp << " not built (make coral_loop_closure_example)";
   // The examples' interpreter: the system one, which has rospy (as in test_config_defaults).
-  const std::string py =
-      std::string("/usr/bin/python3 ") + CORAL_SOURCE_DIR + "/doc/examples/loop_closure_gate.py";
+  // The package's generated Python messages sit beside the executables in the devel space
+  // (devel/lib/python3/dist-packages); catkin's cached test environment may have an empty
+  // PYTHONPATH (a workspace configured before its devel space existed), so name them here.
+  const std::string py = "PYTHONPATH=" + ownDir() + "/../python3/dist-packages:${PYTHONPATH} " +
+                         "/usr/bin/python3 " + CORAL_SOURCE_DIR +
+                         "/doc/examples/loop_closure_gate.py";
   const std::string pair =
       " --a " + coral_data + "/Scans/000109.pcd --b " + coral_data + "/Scans/000161.pcd";
   for (const std::string& exe : {cpp, py}) {
