@@ -76,9 +76,13 @@ RelativeCheckResult decideRelative(double q, const std::vector<ToleranceOffset>&
     p.flat = p.valid && p.sensitivity < cfg.flat_ratio * r.scale;
     if (p.flat) r.flat_axes.push_back(p.axis);
   }
-  r.misaligned = r.score > cfg.margin;
+  r.misaligned = exceedsMargin(r, cfg);
   if (q_neighbours[lowest] < q) r.hint = offsets[lowest];
   return r;
+}
+
+bool exceedsMargin(const RelativeCheckResult& r, const RelativeCheckConfig& cfg) {
+  return r.valid && r.score > cfg.margin;
 }
 
 RelativeCheckResult relativeCheck(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,

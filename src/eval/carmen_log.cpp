@@ -164,6 +164,13 @@ bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Re
   return true;
 }
 
+std::string relationsPath(const std::string& log_path) {
+  std::string rel = log_path;
+  for (const char* ext : {".bz2", ".clf", ".log"})
+    if (rel.size() > 4 && rel.compare(rel.size() - 4, 4, ext) == 0) rel.resize(rel.size() - 4);
+  return rel + ".relations";
+}
+
 bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,
                        const LaserGeometry& geometry, int min_lines,
                        std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,

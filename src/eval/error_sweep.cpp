@@ -6,58 +6,38 @@
 namespace coral_introspection {
 namespace core {
 
-namespace {
-
-Eigen::Isometry3d axisDelta(Axis axis, double amount) {
-  Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
-  switch (axis) {
-    case Axis::kX:
-    case Axis::kY:
-    case Axis::kZ:
-      d.translation()[static_cast<int>(axis)] = amount;
-      break;
-    default:  // roll, pitch, yaw about x, y, z; amount in radians
-      d.linear() = Eigen::AngleAxisd(amount, Eigen::Vector3d::Unit(static_cast<int>(axis) -
-                                                                   static_cast<int>(Axis::kRoll)))
-                       .toRotationMatrix();
-  }
-  return d;
-}
-
-}  // namespace
-
 std::vector<SweepError> sweepErrors(const ToleranceConfig& tol, int dimension) {
   std::vector<SweepError> out;
   SweepError gt;
   gt.label = "ground truth";
   gt.ground_truth = true;
   out.push_back(gt);
-  for (Axis axis : toleranceAxes(dimension))
-    for (double k : sweepMultiples())
-      for (int sign : {1, -1}) {
-        SweepError e;
-        e.axis = axis;
-        e.sign = sign;
-        e.multiple = k;
-        const bool rot = isRotation(axis);
-        e.magnitude = k * (rot ? tol.rotation_deg : tol.translation);
-        e.delta = axisDelta(axis, sign * (rot ? e.magnitude * M_PI / 180.0 : e.magnitude));
-        std::ostringstream s;
-        s << axisName(axis) << (sign > 0 ? "+" : "-") << k;
-        e.label = s.str();
-        out.push_back(e);
-      }
+  // k tolerances: the relative check's offsets (tolerance.hpp) of a k times larger tolerance.
+  for (double k : sweepMultiples())
+    for (const ToleranceOffset& o :
+         toleranceOffsets({k * tol.translation, k * tol.rotation_deg}, dimension)) {
+      SweepError e;
+      e.axis = o.axis;
+      e.sign = o.sign;
+      e.multiple = k;
+      e.magnitude = k * (isRotation(o.axis) ? tol.rotation_deg : tol.translation);
+      e.delta = o.delta;
+      std::ostringstream s;
+      s << o.name << k;
+      e.label = s.str();
+      out.push_back(e);
+    }
   for (double deg : sweepYawDegrees()) {
     if (deg < tol.rotation_deg) continue;
-    for (int sign : {1, -1}) {
-      if (deg >= 180.0 && sign < 0) continue;  // +180 = -180
+    for (const ToleranceOffset& o : toleranceOffsets({tol.translation, deg}, dimension)) {
+      if (o.axis != Axis::kYaw || (deg >= 180.0 && o.sign < 0)) continue;  // +180 = -180
       SweepError e;
       e.axis = Axis::kYaw;
-      e.sign = sign;
+      e.sign = o.sign;
       e.magnitude = deg;
-      e.delta = axisDelta(Axis::kYaw, sign * deg * M_PI / 180.0);
+      e.delta = o.delta;
       std::ostringstream s;
-      s << "yaw" << (sign > 0 ? "+" : "-") << deg << "deg";
+      s << o.name << deg << "deg";
       e.label = s.str();
       out.push_back(e);
     }

@@ -20,7 +20,7 @@ bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
   if (gate == "verdict") {
     const VerdictConfig loop = loopClosureVerdict(cfg);
     // v_both's relative decision used the stream's margin: decide again with the loop's.
-    v.relative.misaligned = v.relative.valid && v.relative.score > loop.relative.margin;
+    v.relative.misaligned = exceedsMargin(v.relative, loop.relative);
     combineVerdict(loop.method, v.classifier, v.relative, loop.relative, &v, loop.gate,
                    v.coral.overlap);
   } else if (gate == "relative") {

@@ -102,14 +102,11 @@ bool loadPairDataset(const DatasetSpec& spec, const DatasetOptions& o, const Pro
     if (!loadKeyframeSequence(spec.path, o.keyframes, progress, &out->scans, &poses, error))
       return false;
   } else if (spec.kind == "carmen") {
-    std::string rel = spec.path;
-    for (const char* ext : {".bz2", ".clf", ".log"})
-      if (rel.size() > 4 && rel.compare(rel.size() - 4, 4, ext) == 0) rel.resize(rel.size() - 4);
     std::vector<CarmenLaserScan> log;
     std::vector<Relation> relations;
     int unmatched = 0;
     if (!readCarmenLog(spec.path, &log, error) ||
-        !readRelations(rel + ".relations", &relations, error) ||
+        !readRelations(relationsPath(spec.path), &relations, error) ||
         !relationPairs(log, relations, o.laser, &out->scans, &out->pairs, &unmatched, error))
       return false;
     std::ostringstream s;

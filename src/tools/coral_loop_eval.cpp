@@ -104,14 +104,10 @@ int main(int argc, char** argv) {
     std::vector<core::CarmenLaserScan> log;
     core::LaserGeometry geometry;
     std::vector<int> raw;
-    std::string rel_file = carmen;
-    for (const char* ext : {".bz2", ".clf"})
-      if (rel_file.size() > 4 && rel_file.compare(rel_file.size() - 4, 4, ext) == 0)
-        rel_file.resize(rel_file.size() - 4);
     if (!core::readCarmenLog(carmen, &log, &err) ||
         !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
-        !core::loopRelationPairs(log, rel_file + ".relations", geometry, 30, &rel_scans, &rel_pairs,
-                                 &err))
+        !core::loopRelationPairs(log, core::relationsPath(carmen), geometry, 30, &rel_scans,
+                                 &rel_pairs, &err))
       return fail(err);
     graph.odom_t = 0.1;
     graph.odom_r = 0.03;
@@ -178,12 +174,13 @@ int main(int argc, char** argv) {
   std::printf("%-14s %14s %14s %10.3f %10d\n", "odometry", "-", "-", ate_odom, 0);
   for (const std::string& gate : core::loopGateNames()) {
     int ta = 0, fa = 0;
-    for (const Judged* j : table)
-      if (core::loopGateAccepts(gate, j->c, j->v, verdict)) (j->c.is_true ? ta : fa)++;
     std::vector<core::PoseGraphEdge> edges = odom_edges;
-    for (const Judged* j : table)  // the rows' candidates between scans of the graph
-      if (j->in_graph && core::loopGateAccepts(gate, j->c, j->v, verdict))
+    for (const Judged* j : table) {
+      if (!core::loopGateAccepts(gate, j->c, j->v, verdict)) continue;
+      (j->c.is_true ? ta : fa)++;
+      if (j->in_graph)  // the rows' candidates between scans of the graph
         edges.push_back({j->c.a, j->c.b, j->c.T_a_b, graph.loop_t, graph.loop_r, true});
+    }
     core::Isometries poses = odom;
     core::PoseGraphResult res;
     if (!core::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);

@@ -75,6 +75,10 @@ std::vector<CoralResult> neighbourResults(const CoralPair& pair, const Eigen::Is
 std::vector<double> neighbourQualities(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                        const std::vector<ToleranceOffset>& offsets);
 
+// The check's decision: misaligned when valid and score > cfg.margin. decideRelative applies
+// it; a caller judging a stored result at another margin (the loop-closure gate) calls it.
+bool exceedsMargin(const RelativeCheckResult& r, const RelativeCheckConfig& cfg);
+
 // The decision from Q values alone (q_neighbours[i] belongs to offsets[i]); lets training
 // reuse Q values it computed once. Precondition: cfg.validate() is empty.
 RelativeCheckResult decideRelative(double q, const std::vector<ToleranceOffset>& offsets,

@@ -45,6 +45,9 @@ struct Relation {
   Eigen::Isometry3d T_1_2 = Eigen::Isometry3d::Identity();  // p_1 = T_1_2 p_2
 };
 bool readRelations(const std::string& path, std::vector<Relation>* relations, std::string* error);
+// The relations file of a log: LOG.relations for LOG.clf[.bz2] or LOG.log (the benchmark's
+// layout, e.g. aces.clf.bz2 -> aces.relations).
+std::string relationsPath(const std::string& log_path);
 
 // One training scan per FLASER scan a relation refers to (matched by stamp to 1e-4 s) and
 // one pair per relation, in file order (the earlier scan first). Relations whose stamps
