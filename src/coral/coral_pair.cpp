@@ -204,5 +204,13 @@ CoralResult CoralPair::evaluateProbe(const Eigen::Isometry3d& T_a_b) const {
 
 const CoralConfig& CoralPair::config() const { return impl_->cfg; }
 
+const Points& CoralPair::points(int side) const {
+  static const Points kNone;
+  const Side& sd = impl_->side[side == 0 ? 0 : 1];
+  return sd.grid ? sd.grid->sortedPoints() : kNone;
+}
+
+const Vec3& CoralPair::origin(int side) const { return impl_->origin[side == 0 ? 0 : 1]; }
+
 }  // namespace core
 }  // namespace coral_introspection

@@ -38,6 +38,8 @@ std::string GateConfig::validate() const {
                "in [0, 1), 0 = off", min_probability)
       .require(min_overlap >= 0.0 && min_overlap < 1.0, "min_overlap", "in [0, 1), 0 = off",
                min_overlap)
+      .require(max_free_space >= 0.0 && max_free_space <= 1.0, "max_free_space",
+               "in [0, 1], 1 = off", max_free_space)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
       .str();
@@ -50,6 +52,7 @@ std::string VerdictConfig::validate() const {
       .nested("relative", relative.validate())
       .nested("gate", gate.validate())
       .nested("loop_closure", loop_closure.validate())
+      .nested("free_space", free_space.validate())
       .str();
 }
 
@@ -80,9 +83,11 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
   return r.valid ? sigmoid(10.0 * (cfg.margin - r.score)) : 0.0;
 }
 
+GateTerms gateTerms(const AlignmentVerdict& v) { return {v.coral.overlap, v.free_space}; }
+
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
-                    AlignmentVerdict* out, const GateConfig& gate, double overlap) {
+                    AlignmentVerdict* out, const GateConfig& gate, const GateTerms& terms) {
   const bool rel_needed = method != VerdictMethod::kClassifier;
   if (rel_needed && !relative.valid) {
     out->valid = out->aligned = false;
@@ -123,9 +128,15 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
         out->aligned = false;
         out->rejected_by = "gate: " + p_words + " < " + number(gate.min_probability) +
                            " (far from how aligned pairs look)";
-      } else if (overlap < gate.min_overlap) {
+      } else if (terms.overlap < gate.min_overlap) {
         out->aligned = false;
-        out->rejected_by = "gate: overlap " + number(overlap) + " < " + number(gate.min_overlap);
+        out->rejected_by =
+            "gate: overlap " + number(terms.overlap) + " < " + number(gate.min_overlap);
+      } else if (terms.free_space.valid && terms.free_space.conflict > gate.max_free_space) {
+        out->aligned = false;
+        out->rejected_by = "gate: free-space conflict " + number(terms.free_space.conflict) +
+                           " > " + number(gate.max_free_space) +
+                           " (points of one scan where the other saw through)";
       }
       if (!out->aligned) out->probability = std::min(p_rel, classifier.probability);
       break;
@@ -160,7 +171,10 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   if (rel_needed)
     v.relative =
         relativeCheck(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance, cfg.relative);
-  combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, v.coral.overlap);
+  if (cfg.gate.max_free_space < 1.0)  // measured for evaluation (kBoth) too
+    v.free_space = freeSpaceConflict(pair.points(0), pair.origin(0), pair.points(1),
+                                     pair.origin(1), T_a_b, coral.dimension, cfg.free_space);
+  combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }
 

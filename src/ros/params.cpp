@@ -171,9 +171,14 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("classifier/probe_queries", &o.verdict.relative.probe_queries) &&
       r.get("gate/min_probability", &o.verdict.gate.min_probability) &&
       r.get("gate/min_overlap", &o.verdict.gate.min_overlap) &&
+      r.get("gate/max_free_space", &o.verdict.gate.max_free_space) &&
       r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
       r.get("loop_closure/min_overlap", &o.verdict.loop_closure.min_overlap) &&
       r.get("loop_closure/relative_margin", &o.verdict.loop_closure.relative_margin) &&
+      r.get("loop_closure/max_free_space", &o.verdict.loop_closure.max_free_space) &&
+      r.get("free_space/bin_deg", &o.verdict.free_space.bin_deg) &&
+      r.get("free_space/margin", &o.verdict.free_space.margin) &&
+      r.get("free_space/min_tested", &o.verdict.free_space.min_tested) &&
       r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
       r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&
@@ -282,7 +287,8 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
       return false;
     }
     if (warnings)
-      r.unknownKeys({"pairing", "coral", "classifier", "gate", "loop_closure", "tolerance", "radar",
+      r.unknownKeys({"pairing", "coral", "classifier", "gate", "loop_closure", "free_space",
+                     "tolerance", "radar",
                      "rip", "motion_compensation", "publish", "doppler", "testing", "calibration"},
                     warnings);
   } catch (const XmlRpc::XmlRpcException& e) {

@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
         core::AlignmentVerdict v = j.verdict;
         if (v.coral.valid)
           core::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v,
-                               verdict.gate, v.coral.overlap);
+                               verdict.gate, core::gateTerms(v));
         auto& t = tally[e.label];
         t.second += 1;
         t.first += (v.valid && v.aligned) == e.ground_truth;  // no verdict = not accepted

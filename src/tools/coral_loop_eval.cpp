@@ -17,6 +17,7 @@
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -86,6 +87,11 @@ int main(int argc, char** argv) {
     return fail(config + ": " + err);
   online::IntrospectorConfig judge_cfg = node.online;
   judge_cfg.verdict.method = core::VerdictMethod::kBoth;  // every term of the verdict
+  // The loop gate as `gate` (loop_gates.hpp); the free-space conflict measured for the CSV
+  // even when the preset's loop gate does not use it (a bound below 1 turns the measurement on).
+  judge_cfg.verdict.gate = verdict.loop_closure;
+  judge_cfg.verdict.gate.max_free_space = std::min(verdict.loop_closure.max_free_space,
+                                                   std::nextafter(1.0, 0.0));
   const int dim = node.online.coral.dimension;
 
   std::vector<core::TrainingScan> scans, rel_scans;
@@ -111,6 +117,9 @@ int main(int argc, char** argv) {
       return fail(err);
     graph.odom_t = 0.1;
     graph.odom_r = 0.03;
+    if (const char* e = std::getenv("LT")) graph.loop_t = std::atof(e);  // TEMP
+    if (const char* e = std::getenv("LR")) graph.loop_r = std::atof(e);  // TEMP
+    if (const char* e = std::getenv("HU")) graph.huber = std::atof(e);  // TEMP
   }
   for (const auto& s : scans) stamps.push_back(s.stamp);
 
@@ -145,7 +154,7 @@ int main(int argc, char** argv) {
     std::ofstream out(out_path);
     if (!out) return fail("cannot write " + out_path);
     out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
-           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes\n";
+           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space\n";
     for (const Judged* j : table) {
       const core::LoopCandidate& c = j->c;
       const core::AlignmentVerdict& v = j->v;
@@ -154,7 +163,7 @@ int main(int argc, char** argv) {
           << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
           << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
           << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
-          << v.relative.flat_axes.size() << "\n";
+          << v.relative.flat_axes.size() << ',' << v.free_space.conflict << "\n";
     }
   }
 

@@ -40,6 +40,11 @@ class CoralPair {
   // The aggregate over the probe queries only (no per-point entropies).
   CoralResult evaluateProbe(const Eigen::Isometry3d& T_a_b) const;
   const CoralConfig& config() const;
+  // The filtered points of a (side 0, a's frame) or b (side 1, b's own frame), empty when
+  // the pair was refused, and that scan's sensor origin in the same frame (Scan::origin):
+  // what the free-space check (free_space.hpp) casts its rays from.
+  const Points& points(int side) const;
+  const Vec3& origin(int side) const;
 
  private:
   struct Impl;

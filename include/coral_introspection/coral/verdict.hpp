@@ -11,6 +11,7 @@
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/coral_pair.hpp"
+#include "coral_introspection/coral/free_space.hpp"
 #include "coral_introspection/coral/relative_check.hpp"
 #include "coral_introspection/coral/tolerance.hpp"
 
@@ -37,6 +38,11 @@ bool parseVerdictMethod(const std::string& name, VerdictMethod* m);
 struct GateConfig {
   double min_probability = 0.0;  // [-] classifier p at the pose must reach this; 0 = off
   double min_overlap = 0.0;      // [-] CorAl's overlap fraction at the pose; 0 = off
+  // [-] the free-space conflict at the pose (free_space.hpp: fraction of one scan's points
+  // lying where the other saw through) must not exceed this; 1 = off. Two look-alike places
+  // (corridors, repeated rooms) that registration fitted together satisfy Q locally; their
+  // corridor ends, doors and side openings fall into each other's free space.
+  double max_free_space = 1.0;
   // [-] loop closures only (loopClosureVerdict): the relative check's margin for these pairs;
   // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
@@ -55,6 +61,7 @@ struct VerdictConfig {
   // verdict with this gate: true revisits look less alike than consecutive scans (viewpoint,
   // time), false ones are local optima of registration (doc/loop_closure.md).
   GateConfig loop_closure;
+  FreeSpaceConfig free_space;  // the check behind max_free_space (either gate)
   std::string validate() const;  // empty when valid
 };
 
@@ -65,6 +72,8 @@ struct AlignmentVerdict {
   CoralResult coral;             // at the given pose
   Verdict classifier;            // Eq. 9-10; meaningful when coral.valid
   RelativeCheckResult relative;  // filled by kRelative / kBoth
+  // Measured when gate.max_free_space < 1 (whatever the method); invalid otherwise.
+  FreeSpaceResult free_space;
   bool valid = false;            // a verdict was reached
   bool aligned = false;          // not misaligned by the tolerance or more
   // Classifier p (Eq. 9); relative: relativeProbability(); both: the smaller of the two.
@@ -79,12 +88,19 @@ struct AlignmentVerdict {
 // (margin - score)). Not calibrated; it orders pairs (ROC) and fills `probability`.
 double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConfig& cfg);
 
+// The absolute terms the gate reads besides the classifier's p, measured at the pose.
+struct GateTerms {
+  double overlap = 1.0;      // CorAl's overlap fraction
+  FreeSpaceResult free_space;  // invalid = not measured (never rejects)
+};
+GateTerms gateTerms(const AlignmentVerdict& v);  // {v.coral.overlap, v.free_space}
+
 // Combines the opinions as `method` says (used by judgeAlignment and by evaluation); the
-// gate (kGated) reads the classifier's p and `overlap` (CorAl's, at the pose).
+// gate (kGated) reads the classifier's p and `terms`.
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
                     AlignmentVerdict* out, const GateConfig& gate = GateConfig(),
-                    double overlap = 1.0);
+                    const GateTerms& terms = GateTerms());
 
 // CorAl of b (its own sensor frame) moved into a's frame by T_a_b (a CoralPair: b is
 // filtered in its own frame), then the verdict as cfg.method says; per-point entropies in
