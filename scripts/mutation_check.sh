@@ -36,6 +36,7 @@ MUTATIONS=(
   "min_neighbours_other ignored (1)@include/coral_introspection/coral/coral.hpp@other\.n >= cfg\.min_neighbours_other@other.n >= 1@${CORAL_TESTS}"
   "own and other neighbourhoods swapped (all-points path)@src/coral/coral.cpp@scorePoint\(m_own, m_other, cfg, &pe\);@scorePoint(m_other, m_own, cfg, &pe);@${CORAL_TESTS}"
   "RIP noise floor: peak at z_min kept@src/radar/rip_features.cpp@if \(sr <= s_min\) continue;@if (sr < s_min) continue;@test_rip_features test_polar_scan test_oxford_radar"
+  "free-space margin on the wrong side@src/coral/free_space.cpp@return r <= nearest - margin;@return r <= nearest + margin;@test_free_space"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).

@@ -26,8 +26,7 @@ class RangeImage {
       : origin_(origin), planar_(dimension == 2), bin_(bin_deg * M_PI / 180.0) {
     n_az_ = static_cast<int>(std::ceil(2.0 * M_PI / bin_));
     n_el_ = planar_ ? 1 : static_cast<int>(std::ceil(M_PI / bin_)) + 1;
-    range_.assign(static_cast<std::size_t>(n_az_) * n_el_,
-                  std::numeric_limits<float>::infinity());
+    range_.assign(static_cast<std::size_t>(n_az_) * n_el_, std::numeric_limits<float>::infinity());
     for (const Vec3& p : pts) {
       int az, el;
       double r;
@@ -67,10 +66,9 @@ class RangeImage {
     if (!(*r > 0.0)) return false;
     *az = std::min(n_az_ - 1, static_cast<int>((std::atan2(d.y(), d.x()) + M_PI) / bin_));
     *el = planar_ ? 0
-                  : std::min(n_el_ - 1, static_cast<int>((std::asin(std::clamp(d.z() / *r, -1.0,
-                                                                                    1.0)) +
-                                                          M_PI / 2) /
-                                                         bin_));
+                  : std::min(n_el_ - 1,
+                             static_cast<int>(
+                                 (std::asin(std::clamp(d.z() / *r, -1.0, 1.0)) + M_PI / 2) / bin_));
     return true;
   }
 
@@ -99,10 +97,10 @@ FreeSpaceResult freeSpaceConflict(const Points& a, const Vec3& origin_a, const P
                                   int dimension, const FreeSpaceConfig& cfg) {
   FreeSpaceResult out;
   int tested[2], conflicts[2];
-  countConflicts(RangeImage(a, origin_a, dimension, cfg.bin_deg), b, T_a_b, cfg.margin,
-                 &tested[0], &conflicts[0]);
-  countConflicts(RangeImage(b, origin_b, dimension, cfg.bin_deg), a, T_a_b.inverse(),
-                 cfg.margin, &tested[1], &conflicts[1]);
+  countConflicts(RangeImage(a, origin_a, dimension, cfg.bin_deg), b, T_a_b, cfg.margin, &tested[0],
+                 &conflicts[0]);
+  countConflicts(RangeImage(b, origin_b, dimension, cfg.bin_deg), a, T_a_b.inverse(), cfg.margin,
+                 &tested[1], &conflicts[1]);
   out.tested = tested[0] + tested[1];
   out.conflicts = conflicts[0] + conflicts[1];
   if (out.tested < cfg.min_tested) return out;

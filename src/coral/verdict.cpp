@@ -172,8 +172,8 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
     v.relative =
         relativeCheck(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance, cfg.relative);
   if (cfg.gate.max_free_space < 1.0)  // measured for evaluation (kBoth) too
-    v.free_space = freeSpaceConflict(pair.points(0), pair.origin(0), pair.points(1),
-                                     pair.origin(1), T_a_b, coral.dimension, cfg.free_space);
+    v.free_space = freeSpaceConflict(pair.points(0), pair.origin(0), pair.points(1), pair.origin(1),
+                                     T_a_b, coral.dimension, cfg.free_space);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }

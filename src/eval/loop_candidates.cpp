@@ -4,6 +4,7 @@
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
+#include <pcl/registration/ndt.h>
 #include <pcl/registration/transformation_estimation_2D.h>
 
 #include <algorithm>
@@ -23,6 +24,11 @@ std::string LoopCandidateConfig::validate() const {
                lookalike_min_distance)
       .require(max_correspondence > 0.0, "max_correspondence", "> 0 m", max_correspondence)
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
+      .require(registration == "gicp" || (registration == "ndt" && dimension == 3),
+               "registration must be gicp or ndt, and ndt only in 3D (2D scans are registered by "
+               "planar ICP); got " +
+                   registration)
+      .require(ndt_resolution > 0.0, "ndt_resolution", "> 0 m", ndt_resolution)
       .require(false_multiple >= 1.0, "false_multiple", ">= 1", false_multiple)
       .nested("tolerance", tolerance.validate())
       .str();
@@ -102,7 +108,13 @@ void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_i
   const auto target = toPcl(a, cfg.dimension);
   const auto source = toPcl(b, cfg.dimension);
   Eigen::Matrix4f result;
-  if (cfg.dimension == 3) {
+  if (cfg.dimension == 3 && cfg.registration == "ndt") {
+    pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
+    ndt.setResolution(static_cast<float>(cfg.ndt_resolution));
+    ndt.setStepSize(0.1);
+    ndt.setTransformationEpsilon(0.01);
+    result = align(&ndt, target, source, T_init, cfg, c);
+  } else if (cfg.dimension == 3) {
     pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
     result = align(&gicp, target, source, T_init, cfg, c);
   } else {

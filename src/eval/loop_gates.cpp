@@ -4,9 +4,9 @@ namespace coral_introspection {
 namespace core {
 
 const std::vector<std::string>& loopGateNames() {
-  static const std::vector<std::string> names = {
-      "verdict",      "no_free_space", "relative",     "classifier", "fitness<=0.3",
-      "fitness<=0.5", "fitness<=2.5",  "oracle",       "all"};
+  static const std::vector<std::string> names = {"verdict",      "no_free_space", "relative",
+                                                 "classifier",   "fitness<=0.3",  "fitness<=0.5",
+                                                 "fitness<=2.5", "oracle",        "all"};
   return names;
 }
 

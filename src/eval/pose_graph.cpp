@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -80,6 +81,9 @@ std::string PoseGraphConfig::validate() const {
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
       .require(std::isfinite(huber_loss) && huber_loss >= 0.0, "huber_loss",
                ">= 0 (whitened units; 0 = none)", huber_loss)
+      .require(std::all_of(loop_sigma_schedule.begin(), loop_sigma_schedule.end(),
+                           [](double f) { return std::isfinite(f) && f > 1.0; }),
+               "loop_sigma_schedule: every factor must be finite and > 1")
       .str();
 }
 
@@ -91,6 +95,26 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
   const std::string problems = cfg.validate();
   if (!problems.empty()) return fail(&res.error, problems);
   if (!poses || poses->empty()) return fail(&res.error, "pose graph without poses");
+  if (!cfg.loop_sigma_schedule.empty()) {  // the continuation stages, then the solve below
+    PoseGraphConfig stage_cfg = cfg;
+    stage_cfg.loop_sigma_schedule.clear();
+    Isometries staged = *poses;  // *poses untouched when a stage fails
+    int iterations = 0;
+    for (double f : cfg.loop_sigma_schedule) {
+      std::vector<PoseGraphEdge> soft = edges;
+      for (PoseGraphEdge& e : soft)
+        if (e.loop) {
+          e.sigma_translation *= f;
+          e.sigma_rotation *= f;
+        }
+      if (!optimizePoseGraph(soft, stage_cfg, &staged, &res)) return false;
+      iterations += res.iterations;
+    }
+    if (!optimizePoseGraph(edges, stage_cfg, &staged, &res)) return false;
+    res.iterations += iterations;
+    *poses = staged;
+    return true;
+  }
   const int n = static_cast<int>(poses->size());
   for (std::size_t k = 0; k < edges.size(); ++k) {
     const PoseGraphEdge& e = edges[k];

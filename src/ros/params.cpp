@@ -287,10 +287,10 @@ bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::str
       return false;
     }
     if (warnings)
-      r.unknownKeys({"pairing", "coral", "classifier", "gate", "loop_closure", "free_space",
-                     "tolerance", "radar",
-                     "rip", "motion_compensation", "publish", "doppler", "testing", "calibration"},
-                    warnings);
+      r.unknownKeys(
+          {"pairing", "coral", "classifier", "gate", "loop_closure", "free_space", "tolerance",
+           "radar", "rip", "motion_compensation", "publish", "doppler", "testing", "calibration"},
+          warnings);
   } catch (const XmlRpc::XmlRpcException& e) {
     *error = std::string("malformed parameter tree: ") + e.getMessage();
     return false;

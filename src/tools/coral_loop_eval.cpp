@@ -1,23 +1,24 @@
 // coral_loop_eval: loop closure end to end on a real sequence with reference poses, the
 // evaluation of doc/loop_closure.md and a template of the consumer:
 //   1. loop candidates (eval/loop_candidates.hpp): revisits and look-alike places, registered
-//      by PCL (GICP / planar ICP), labelled true or false against the reference;
+//      by PCL (GICP or NDT in 3D, planar ICP in 2D), labelled true or false against the
+//      reference;
 //   2. each gate of eval/loop_gates.hpp decides every candidate (one CorAl evaluation each);
 //   3. per gate, a keyframe pose graph (odometry edges + the accepted loop edges) optimised
-//      with Ceres (eval/pose_graph.hpp); ATE against the reference poses; trajectories
+//      with Ceres (eval/pose_graph.hpp, loop sigmas by continuation); ATE against the
+//      reference poses and, for CARMEN logs, the benchmark's relation error; trajectories
 //      written as TUM and KITTI files with --out_dir.
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
-//       [--rows all|even|odd] [--out FILE.csv] [--out_dir DIR]
+//       [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] [--out_dir DIR]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN: the corrected poses are the reference, the log's raw odometry the odometry; the
-// benchmark relations joining scans more than 30 log lines apart are further true candidates
-// of the gate table (they join raw scans outside the corrected subset: not in the graph).
+// benchmark relations joining scans more than 30 log lines apart are further true candidates,
+// edges between the graph nodes their raw scans hang off (eval/log_nodes.hpp).
 // --rows even|odd: only every other candidate (tuning / held-out halves of the gate table).
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -28,6 +29,7 @@
 #include "coral_introspection/eval/carmen_log.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
+#include "coral_introspection/eval/log_nodes.hpp"
 #include "coral_introspection/eval/loop_gates.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
@@ -40,7 +42,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
-    "--corrected POSES.csv) [--rows all|even|odd] [--out FILE.csv] [--out_dir DIR]";
+    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] "
+    "[--out_dir DIR]";
 
 int fail(const std::string& msg) { return core::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -55,19 +58,25 @@ struct GraphSettings {
 // A candidate and the one CorAl evaluation every CorAl gate decides from.
 struct Judged {
   core::LoopCandidate c;
-  core::AlignmentVerdict v;  // method kBoth
-  bool in_graph = false;     // joins two scans of the graph (not a raw-log relation)
+  core::AlignmentVerdict v;    // method kBoth
+  bool in_graph = false;       // an edge of the graph: between graph nodes, or attached to them
+  int node_a = 0, node_b = 0;  // its graph nodes
+  Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // node_b in node_a's frame
 };
+
+// A benchmark relation's raw scans hang off the graph node at most this many log lines away
+// (the corrected scans are ~9 lines apart).
+constexpr int kAttachLines = 10;
 
 }  // namespace
 
 int main(int argc, char** argv) {
   core::ToolArgs args;
   std::string err;
-  if (!core::parseToolArgs(
-          argc, argv,
-          {"--config", "--keyframes", "--carmen", "--corrected", "--out", "--out_dir", "--rows"},
-          {}, &args, &err))
+  if (!core::parseToolArgs(argc, argv,
+                           {"--config", "--keyframes", "--carmen", "--corrected", "--out",
+                            "--out_dir", "--rows", "--registration"},
+                           {}, &args, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -76,7 +85,8 @@ int main(int argc, char** argv) {
   const std::string config = args.get("--config"), keyframes = args.get("--keyframes"),
                     carmen = args.get("--carmen"), corrected = args.get("--corrected"),
                     out_path = args.get("--out"), out_dir = args.get("--out_dir"),
-                    rows = args.get("--rows", "all");
+                    rows = args.get("--rows", "all"),
+                    registration = args.get("--registration", "gicp");
   if (config.empty() || keyframes.empty() == carmen.empty() || carmen.empty() != corrected.empty())
     return fail("--config and either --keyframes or --carmen with --corrected are required");
   if (rows != "all" && rows != "even" && rows != "odd")
@@ -90,14 +100,17 @@ int main(int argc, char** argv) {
   // The loop gate as `gate` (loop_gates.hpp); the free-space conflict measured for the CSV
   // even when the preset's loop gate does not use it (a bound below 1 turns the measurement on).
   judge_cfg.verdict.gate = verdict.loop_closure;
-  judge_cfg.verdict.gate.max_free_space = std::min(verdict.loop_closure.max_free_space,
-                                                   std::nextafter(1.0, 0.0));
+  judge_cfg.verdict.gate.max_free_space =
+      std::min(verdict.loop_closure.max_free_space, std::nextafter(1.0, 0.0));
   const int dim = node.online.coral.dimension;
 
   std::vector<core::TrainingScan> scans, rel_scans;
   core::Isometries ref, odom;
   std::vector<double> stamps;
   std::vector<core::ScanPair> rel_pairs;
+  std::vector<core::CarmenLaserScan> log;
+  std::vector<int> raw;
+  std::vector<core::Relation> relations;  // all of them: the relation error of each graph
   GraphSettings graph;
   if (!keyframes.empty()) {
     if (!core::loadKeyframeSequence(keyframes, core::KeyframeSequenceConfig(), nullptr, &scans,
@@ -107,32 +120,29 @@ int main(int argc, char** argv) {
     if (odom.size() < scans.size()) return fail("fewer odometry poses than keyframes");
     odom.resize(scans.size());
   } else {
-    std::vector<core::CarmenLaserScan> log;
     core::LaserGeometry geometry;
-    std::vector<int> raw;
     if (!core::readCarmenLog(carmen, &log, &err) ||
         !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
         !core::loopRelationPairs(log, core::relationsPath(carmen), geometry, 30, &rel_scans,
-                                 &rel_pairs, &err))
+                                 &rel_pairs, &err) ||
+        !core::readRelations(core::relationsPath(carmen), &relations, &err))
       return fail(err);
     graph.odom_t = 0.1;
     graph.odom_r = 0.03;
-    if (const char* e = std::getenv("LT")) graph.loop_t = std::atof(e);  // TEMP
-    if (const char* e = std::getenv("LR")) graph.loop_r = std::atof(e);  // TEMP
-    if (const char* e = std::getenv("HU")) graph.huber = std::atof(e);  // TEMP
   }
   for (const auto& s : scans) stamps.push_back(s.stamp);
 
   // 1. Candidates, 2. one evaluation each.
   std::vector<core::LoopCandidate> cands;
-  if (!core::buildLoopCandidates(scans, ref, odom,
-                                 core::evaluationCandidates(dim, verdict.tolerance), &cands, &err))
-    return fail(err);
+  core::LoopCandidateConfig cand_cfg = core::evaluationCandidates(dim, verdict.tolerance);
+  cand_cfg.registration = registration;
+  if (!core::buildLoopCandidates(scans, ref, odom, cand_cfg, &cands, &err)) return fail(err);
   std::vector<Judged> judged;
   for (const core::LoopCandidate& c : cands)
     judged.push_back(
         {c, online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, judge_cfg, false).verdict,
-         true});
+         true, c.a, c.b, c.T_a_b});
+  const core::LogNodes nodes(log, raw);
   for (const core::ScanPair& p : rel_pairs) {
     core::LoopCandidate c;
     c.a = p.a;
@@ -140,11 +150,16 @@ int main(int argc, char** argv) {
     c.source = "relation";
     c.T_a_b = p.T_a_b;
     c.is_true = c.converged = true;
-    judged.push_back(
-        {c,
-         online::judgePair(rel_scans[p.a].scan, rel_scans[p.b].scan, p.T_a_b, judge_cfg, false)
-             .verdict,
-         false});
+    Judged j{c,
+             online::judgePair(rel_scans[p.a].scan, rel_scans[p.b].scan, p.T_a_b, judge_cfg, false)
+                 .verdict};
+    // An edge between the nodes its scans hang off: T_node_a_a * T_a_b * T_node_b_b^-1.
+    Eigen::Isometry3d A, B;
+    j.in_graph = nodes.attach(rel_scans[p.a].stamp, kAttachLines, &j.node_a, &A) &&
+                 nodes.attach(rel_scans[p.b].stamp, kAttachLines, &j.node_b, &B) &&
+                 j.node_a != j.node_b;
+    if (j.in_graph) j.T_edge = A * p.T_a_b * B.inverse();
+    judged.push_back(j);
   }
   std::vector<const Judged*> table;  // the rows of the gate table
   for (std::size_t k = 0; k < judged.size(); ++k)
@@ -176,11 +191,23 @@ int main(int argc, char** argv) {
   core::PoseGraphConfig pg;
   pg.dimension = dim;
   pg.huber_loss = graph.huber;
+  // Continuation: the CARMEN logs' raw odometry starts the graph metres and tens of degrees off.
+  pg.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
   const auto odom_edges = core::odometryEdges(odom, graph.odom_t, graph.odom_r);
   const double ate_odom = core::absoluteTrajectoryError(odom, ref, dim);
-  std::printf("%-14s %14s %14s %10s %10s\n", "gate", "true accepted", "false accepted", "ATE [m]",
-              "edges");
-  std::printf("%-14s %14s %14s %10.3f %10d\n", "odometry", "-", "-", ate_odom, 0);
+  // CARMEN: the benchmark's relation error of the graph too (every relation of the log, loop
+  // relations included: they are edges of the graphs whose gate accepts them).
+  auto relErr = [&](const core::Isometries& poses) {
+    if (relations.empty()) return std::string();
+    const core::RelationError e = core::relationError(nodes, poses, relations, kAttachLines);
+    char buf[64];
+    std::snprintf(buf, sizeof buf, " %9.3f %8.2f", e.translation, e.rotation_deg);
+    return std::string(buf);
+  };
+  std::printf("%-14s %14s %14s %10s %10s%s\n", "gate", "true accepted", "false accepted", "ATE [m]",
+              "edges", relations.empty() ? "" : "  rel [m]  rel [deg]");
+  std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
+              relErr(odom).c_str());
   for (const std::string& gate : core::loopGateNames()) {
     int ta = 0, fa = 0;
     std::vector<core::PoseGraphEdge> edges = odom_edges;
@@ -188,14 +215,14 @@ int main(int argc, char** argv) {
       if (!core::loopGateAccepts(gate, j->c, j->v, verdict)) continue;
       (j->c.is_true ? ta : fa)++;
       if (j->in_graph)  // the rows' candidates between scans of the graph
-        edges.push_back({j->c.a, j->c.b, j->c.T_a_b, graph.loop_t, graph.loop_r, true});
+        edges.push_back({j->node_a, j->node_b, j->T_edge, graph.loop_t, graph.loop_r, true});
     }
     core::Isometries poses = odom;
     core::PoseGraphResult res;
     if (!core::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
     const double ate = core::absoluteTrajectoryError(poses, ref, dim);
-    std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu\n", gate.c_str(), ta, n_true, fa, n_false,
-                ate, edges.size() - odom_edges.size());
+    std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu%s\n", gate.c_str(), ta, n_true, fa,
+                n_false, ate, edges.size() - odom_edges.size(), relErr(poses).c_str());
     if (!out_dir.empty()) {
       std::string name = gate;
       std::replace(name.begin(), name.end(), '<', '_');

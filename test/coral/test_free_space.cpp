@@ -117,8 +117,8 @@ TEST(FreeSpace, ConflictStartsExactlyAtTheMargin) {
   const double ahead = 0.2 * M_PI / 180.0;
   auto at = [&](double r) {
     const Points b = {Vec3(r * std::cos(ahead), r * std::sin(ahead), 0.0)};
-    return freeSpaceConflict(wall, Vec3::Zero(), b, Vec3::Zero(), Eigen::Isometry3d::Identity(),
-                             2, cfg);
+    return freeSpaceConflict(wall, Vec3::Zero(), b, Vec3::Zero(), Eigen::Isometry3d::Identity(), 2,
+                             cfg);
   };
   // The nearest return of the bin and its neighbours is at 5 m (every point lies on r = 5).
   EXPECT_EQ(at(5.0 - cfg.margin - 0.01).conflicts, 1);
@@ -154,12 +154,14 @@ TEST(FreeSpace, ShiftedRoomIn3dConflicts) {
   Eigen::Isometry3d truth = Eigen::Isometry3d::Identity();
   truth.translation() = Vec3(2, -0.5, 0);
   FreeSpaceConfig cfg;
-  const FreeSpaceResult ok = freeSpaceConflict(a.points, a.origin, b.points, b.origin, truth, 3, cfg);
+  const FreeSpaceResult ok =
+      freeSpaceConflict(a.points, a.origin, b.points, b.origin, truth, 3, cfg);
   ASSERT_TRUE(ok.valid);
   EXPECT_EQ(ok.conflicts, 0);
   Eigen::Isometry3d off = truth;
   off.translation().x() += 1.5;  // b's wall at x = 0 now 1.5 m in front of a's (and back)
-  const FreeSpaceResult bad = freeSpaceConflict(a.points, a.origin, b.points, b.origin, off, 3, cfg);
+  const FreeSpaceResult bad =
+      freeSpaceConflict(a.points, a.origin, b.points, b.origin, off, 3, cfg);
   ASSERT_TRUE(bad.valid);
   // That wall holds ~6 % of b's rays (floor and ceiling slide along themselves: no conflict).
   EXPECT_GT(bad.conflicts, 1000);

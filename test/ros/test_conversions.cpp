@@ -289,6 +289,24 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
   ASSERT_EQ(m.flat_axes.size(), 1u);
   EXPECT_EQ(m.flat_axes[0], "yaw");
   EXPECT_GT(m.relative_score, cfg.relative.margin);
+  EXPECT_TRUE(std::isnan(m.free_space_conflict));  // not measured
+
+  // A gated verdict rejected by the free-space term carries the conflict and names the term.
+  core::VerdictConfig gated = cfg;
+  gated.method = core::VerdictMethod::kGated;
+  gated.gate.max_free_space = 0.1;
+  core::AlignmentVerdict fs = v;
+  fs.relative = core::decideRelative(0.4, offsets, {0.9, 0.8, 0.8, 0.8, 0.7, 0.7}, cfg.relative);
+  fs.free_space.valid = true;
+  fs.free_space.conflict = 0.25;
+  core::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
+                       core::gateTerms(fs));
+  const auto mf = ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
+  EXPECT_TRUE(mf.valid);
+  EXPECT_FALSE(mf.aligned);
+  EXPECT_DOUBLE_EQ(mf.free_space_conflict, 0.25);
+  EXPECT_NE(mf.rejected_by.find("free-space conflict 0.25 > 0.1"), std::string::npos)
+      << mf.rejected_by;
 
   core::AlignmentVerdict none;  // CorAl valid, no valid neighbour: no verdict
   none.coral.valid = true;

@@ -61,7 +61,7 @@ struct VerdictConfig {
   // verdict with this gate: true revisits look less alike than consecutive scans (viewpoint,
   // time), false ones are local optima of registration (doc/loop_closure.md).
   GateConfig loop_closure;
-  FreeSpaceConfig free_space;  // the check behind max_free_space (either gate)
+  FreeSpaceConfig free_space;    // the check behind max_free_space (either gate)
   std::string validate() const;  // empty when valid
 };
 
@@ -74,8 +74,8 @@ struct AlignmentVerdict {
   RelativeCheckResult relative;  // filled by kRelative / kBoth
   // Measured when gate.max_free_space < 1 (whatever the method); invalid otherwise.
   FreeSpaceResult free_space;
-  bool valid = false;            // a verdict was reached
-  bool aligned = false;          // not misaligned by the tolerance or more
+  bool valid = false;    // a verdict was reached
+  bool aligned = false;  // not misaligned by the tolerance or more
   // Classifier p (Eq. 9); relative: relativeProbability(); both: the smaller of the two.
   double probability = 0.0;
   std::string reason;  // why there is no verdict (empty when valid)
@@ -90,7 +90,7 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 
 // The absolute terms the gate reads besides the classifier's p, measured at the pose.
 struct GateTerms {
-  double overlap = 1.0;      // CorAl's overlap fraction
+  double overlap = 1.0;        // CorAl's overlap fraction
   FreeSpaceResult free_space;  // invalid = not measured (never rejects)
 };
 GateTerms gateTerms(const AlignmentVerdict& v);  // {v.coral.overlap, v.free_space}

@@ -20,7 +20,11 @@ namespace coral_introspection {
 namespace core {
 
 struct LoopCandidateConfig {
-  int dimension = 3;                    // 2: planar ICP (x, y, yaw), 3: GICP
+  int dimension = 3;  // 2: planar ICP (x, y, yaw), 3: `registration`
+  // 3D registration: "gicp" (PCL GeneralizedIterativeClosestPoint) or "ndt" (PCL
+  // NormalDistributionsTransform, ndt_resolution cells), the two hdl_graph_slam offers.
+  std::string registration = "gicp";
+  double ndt_resolution = 1.0;          // [m] NDT cell size (hdl_graph_slam's default)
   int min_index_gap = 50;               // [scans] a loop joins scans at least this far apart
   double radius = 3.0;                  // [m] (a): reference distance of a revisit
   double lookalike_min_distance = 8.0;  // [m] (b): reference distance of different places

@@ -1,0 +1,63 @@
+#include "coral_introspection/eval/log_nodes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace coral_introspection {
+namespace core {
+
+LogNodes::LogNodes(const std::vector<CarmenLaserScan>& log, const std::vector<int>& raw_index)
+    : log_(log), raw_index_(raw_index) {
+  for (const CarmenLaserScan& l : log) stamps_.push_back(l.stamp);  // log order = time order
+}
+
+bool LogNodes::attach(double stamp, int max_lines, int* node,
+                      Eigen::Isometry3d* T_node_scan) const {
+  const auto it = std::lower_bound(stamps_.begin(), stamps_.end(), stamp - 1e-4);
+  if (it == stamps_.end() || std::abs(*it - stamp) > 1e-4 || raw_index_.empty()) return false;
+  const int line = static_cast<int>(it - stamps_.begin());
+  const auto n = std::lower_bound(raw_index_.begin(), raw_index_.end(), line);
+  int k = static_cast<int>(n - raw_index_.begin());
+  if (k == static_cast<int>(raw_index_.size()) ||
+      (k > 0 && line - raw_index_[k - 1] < raw_index_[k] - line))
+    --k;  // the nearer of the two nodes around the line
+  if (std::abs(raw_index_[k] - line) > max_lines) return false;
+  auto odom = [&](int l) {
+    const Eigen::Vector3d& p = log_[static_cast<std::size_t>(l)].laser_pose;
+    return se2(p.x(), p.y(), p.z());
+  };
+  *node = k;
+  *T_node_scan = odom(raw_index_[k]).inverse() * odom(line);
+  return true;
+}
+
+RelationError relationError(const LogNodes& nodes, const Isometries& T_world_node,
+                            const std::vector<Relation>& relations, int max_lines) {
+  RelationError e;
+  for (const Relation& r : relations) {
+    int k1, k2;
+    Eigen::Isometry3d A1, A2;
+    if (!nodes.attach(r.t1, max_lines, &k1, &A1) || !nodes.attach(r.t2, max_lines, &k2, &A2))
+      continue;
+    const Eigen::Isometry3d est = (T_world_node[k1] * A1).inverse() * (T_world_node[k2] * A2);
+    const Eigen::Isometry3d d = r.T_1_2.inverse() * est;
+    const double t = d.translation().head<2>().norm();
+    const double a = std::abs(std::atan2(d.linear()(1, 0), d.linear()(0, 0))) * 180.0 / M_PI;
+    ++e.n;
+    e.translation += t;
+    e.rotation_deg += a;
+    e.translation_sq += t * t;
+    e.rotation_sq += a * a;
+  }
+  if (e.n > 0) {
+    e.translation /= e.n;
+    e.rotation_deg /= e.n;
+    e.translation_sq /= e.n;
+    e.rotation_sq /= e.n;
+  }
+  return e;
+}
+
+}  // namespace core
+}  // namespace coral_introspection
