@@ -179,6 +179,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       r.get("free_space/bin_deg", &o.verdict.free_space.bin_deg) &&
       r.get("free_space/margin", &o.verdict.free_space.margin) &&
       r.get("free_space/min_tested", &o.verdict.free_space.min_tested) &&
+      r.get("free_space/min_extent", &o.verdict.free_space.min_extent) &&
       r.get("tolerance/translation", &o.verdict.tolerance.translation) &&
       r.get("tolerance/rotation_deg", &o.verdict.tolerance.rotation_deg) &&
       r.getChoice("radar/polar_format", {"oxford", "plain"}, &fmt) &&

@@ -79,6 +79,25 @@ TEST(FreeSpace, TruePoseOfARoomHasNoConflict) {
   EXPECT_EQ(r.conflict, 0.0);
 }
 
+// A person (a 0.4 m square) stands in the room when b is taken, where a saw through to the
+// far wall: at the true pose its points are in a's free space, a small group that
+// min_extent (1 m) leaves out; counted with min_extent 0.
+TEST(FreeSpace, APersonWhoMovedIsNotAConflict) {
+  std::vector<Segment> room = box(0.0, 0.0, 10.0, 6.0);
+  const Scan a = scan2d(room, 2.0, 3.0, 0.0, 1);
+  for (const Segment& s : box(5.0, 2.8, 5.4, 3.2)) room.push_back(s);
+  const Scan b = scan2d(room, 7.5, 2.0, 0.6, 2);
+  const Eigen::Isometry3d truth = relative(2.0, 3.0, 0.0, 7.5, 2.0, 0.6);
+  const FreeSpaceResult r = conflict2d(a, b, truth);
+  ASSERT_TRUE(r.valid);
+  EXPECT_EQ(r.conflicts, 0);
+  FreeSpaceConfig every;
+  every.min_extent = 0.0;
+  const FreeSpaceResult all =
+      freeSpaceConflict(a.points, a.origin, b.points, b.origin, truth, 2, every);
+  EXPECT_GE(all.conflicts, 5);  // the person's side facing b: ~0.4 m at 2.5 m, 9 beams
+}
+
 TEST(FreeSpace, CorridorSlidAlongItsAxisPutsEndWallsIntoFreeSpace) {
   const Scan a = scan2d(kCorridor, 4.0, 1.0, 0.0, 3), b = scan2d(kCorridor, 7.0, 1.0, 0.0, 4);
   const Eigen::Isometry3d truth = relative(4.0, 1.0, 0.0, 7.0, 1.0, 0.0);
@@ -114,6 +133,7 @@ TEST(FreeSpace, ConflictStartsExactlyAtTheMargin) {
   }
   FreeSpaceConfig cfg;
   cfg.min_tested = 1;
+  cfg.min_extent = 0.0;  // a single point: every conflict counts
   const double ahead = 0.2 * M_PI / 180.0;
   auto at = [&](double r) {
     const Points b = {Vec3(r * std::cos(ahead), r * std::sin(ahead), 0.0)};
@@ -166,6 +186,8 @@ TEST(FreeSpace, ShiftedRoomIn3dConflicts) {
   // That wall holds ~6 % of b's rays (floor and ceiling slide along themselves: no conflict).
   EXPECT_GT(bad.conflicts, 1000);
   EXPECT_GT(bad.conflict, 0.04);
+  cfg.min_extent = 7.0;  // wider than the 6 m wall: no group counts
+  EXPECT_EQ(freeSpaceConflict(a.points, a.origin, b.points, b.origin, off, 3, cfg).conflicts, 0);
 }
 
 TEST(FreeSpace, ConfigValidation) {

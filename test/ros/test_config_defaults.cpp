@@ -179,6 +179,7 @@ std::string describe(const NodeConfig& c) {
     << "\nfree_space.bin_deg = " << c.online.verdict.free_space.bin_deg
     << "\nfree_space.margin = " << c.online.verdict.free_space.margin
     << "\nfree_space.min_tested = " << c.online.verdict.free_space.min_tested
+    << "\nfree_space.min_extent = " << c.online.verdict.free_space.min_extent
     << "\ntolerance.translation = " << c.online.verdict.tolerance.translation
     << "\ntolerance.rotation_deg = " << c.online.verdict.tolerance.rotation_deg
     << "\npolar_format = " << static_cast<int>(c.polar_format)

@@ -22,8 +22,15 @@ struct FreeSpaceConfig {
   // the nearest return of its bin and both neighbours (3 x 3 in 3D), which also absorbs
   // grazing surfaces and depth edges.
   double bin_deg = 1.0;
-  // [m] a point conflicts when it lies at least this much in front of that nearest return.
+  // [m] a point conflicts when it lies at least this much in front of that nearest return;
+  // conflicts closer than this to each other (or in touching bins) form one group.
   double margin = 0.5;
+  // [m] only groups of conflicts (in touching bins) at least this wide (horizontal extent of
+  // their points) count: people and
+  // other things that moved between the scans stand in each other's free space as small
+  // groups (on the ACES log they made most of the conflicts of true loop closures); a
+  // corridor end or a wall of a wrong match is wider. 0 = every conflict counts.
+  double min_extent = 1.0;
   // Fewer tested points than this (in both directions together): no result.
   int min_tested = 20;
   std::string validate() const;  // empty when valid
@@ -35,7 +42,8 @@ struct FreeSpaceResult {
   // directions (a's points in b's view, b's points in a's view) [-].
   double conflict = std::numeric_limits<double>::quiet_NaN();
   int tested = 0;     // points whose direction the other scan observed (both directions)
-  int conflicts = 0;  // of those, in front of the other scan's return by >= margin
+  int conflicts = 0;  // of those, in front of the other scan's return by >= margin, in groups
+                      // at least min_extent wide
 };
 
 // a and b each in their own sensor frame (origin = the sensor, Scan::origin), b moved into
