@@ -15,6 +15,9 @@ PKGS=(
   libsensor-msgs-dev libgeometry-msgs-dev libstd-msgs-dev libnav-msgs-dev libdiagnostic-msgs-dev
   python3-sensor-msgs python3-geometry-msgs python3-std-msgs python3-nav-msgs python3-diagnostic-msgs
   libpcl-conversions-dev libpcl-dev libopencv-dev
+  # pcl_ros: its filter nodelets (libpcl_ros_filters.so) in front of CoralNodelet
+  # (launch/coral_pcl_filters.launch); -dev pulls in every libpcl-ros-* library
+  libpcl-ros-dev libpcl-ros-filters0d
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev
   librosbag-dev python3-rosbag
