@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs what is needed, builds the package and runs the demo:
+# Installs what is needed, builds what the demo runs and runs it:
 #   1. CorAl on a built-in synthetic pair (aligned, then with induced offsets): verdicts;
 #   2. a simulated drive replayed through the nodelet with injected odometry errors
 #      (roslaunch coral_introspection demo.launch): how many were flagged; the summary is
@@ -10,7 +10,7 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 bash "${CORAL_REPO}/scripts/install_deps.sh"
-coral_build
+coral_build demo  # only what the demo runs (scripts/test.sh builds everything)
 echo "=== CorAl on the built-in synthetic pair"
 rosrun coral_introspection coral_demo_pair
 if [ -f "${CORAL_REPO}/launch/demo.launch" ]; then

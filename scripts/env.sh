@@ -7,7 +7,9 @@ export ROS_HOME="${ROS_HOME:-${CORAL_WS}/ros_home}"
 export PYTHONNOUSERSITE=1
 unset PYTHONPATH PYTHONHOME
 
-# Builds (incrementally) the package and, with argument "tests", its test targets.
+# Builds (incrementally) the package and, with argument "tests", its test targets; with
+# argument "demo" only what scripts/demo.sh runs (the nodelet plugin, the two demo programs
+# and the messages), not every tool.
 coral_build() {
   mkdir -p "${CORAL_WS}/src" "${ROS_HOME}"
   ln -sfn "${CORAL_REPO}" "${CORAL_WS}/src/coral_introspection"
@@ -15,7 +17,13 @@ coral_build() {
   jobs="$(nproc)"
   (
     cd "${CORAL_WS}"
-    catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
+    if [ "${1:-}" = "demo" ]; then
+      catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" \
+        coral_introspection_generate_messages coral_introspection_nodelets coral_demo_pair \
+        coral_sequence_demo
+    else
+      catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
+    fi
     if [ "${1:-}" = "tests" ]; then
       catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests
     fi
