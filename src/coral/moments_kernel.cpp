@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -14,8 +15,8 @@ namespace core {
 namespace {
 
 template <int Dim>
-void addWithinPortable(const NeighbourGrid& g, const Span* spans, std::size_t num_spans,
-                       const Vec3& q, double r2, MomentsN<Dim>* m) {
+void addWithinScalar(const NeighbourGrid& g, const Span* spans, std::size_t num_spans,
+                     const Vec3& q, double r2, MomentsN<Dim>* m) {
   const double* x = g.coordinates(0);
   const double* y = g.coordinates(1);
   const double* z = g.coordinates(2);
@@ -32,6 +33,89 @@ void addWithinPortable(const NeighbourGrid& g, const Span* spans, std::size_t nu
       if (d2 <= r2) m->add(d);
     }
   }
+}
+
+// The portable vector path: two candidates at a time in GCC / Clang generic vectors of two
+// doubles, the width every 64-bit target has natively (SSE2 on any x86-64, NEON on ARM64;
+// wider generic vectors are split by the compiler, with worse code). The inside test is a
+// lane mask, as in the AVX2 path: no branch per point. |d|^2 is rounded as the
+// point-at-a-time path rounds it (the file is built with -ffp-contract=off), so all paths
+// count the same points.
+using V2 = double __attribute__((vector_size(16)));
+using M2 = int64_t __attribute__((vector_size(16)));
+
+template <int Dim>
+struct VectorLanes {
+  static constexpr int kPairs = Dim * (Dim + 1) / 2;
+  V2 n = {}, s[Dim] = {}, s2[kPairs] = {};
+
+  // d: deviations of two points from the query (a lane past a span's end holds +inf).
+  __attribute__((always_inline)) void add(const V2* d, V2 rr) {
+    V2 d2 = d[0] * d[0] + d[1] * d[1];
+    if constexpr (Dim == 3) d2 = d2 + d[2] * d[2];
+    const M2 inside = d2 <= rr;  // all bits set in lanes inside the ball
+    const V2 one = {1.0, 1.0};
+    n += reinterpret_cast<V2>(reinterpret_cast<M2>(one) & inside);
+    V2 dm[Dim];
+    for (int i = 0; i < Dim; ++i) {
+      dm[i] = reinterpret_cast<V2>(reinterpret_cast<M2>(d[i]) & inside);  // +0 outside
+      s[i] += dm[i];
+    }
+    int k = 0;
+    for (int i = 0; i < Dim; ++i)
+      for (int j = i; j < Dim; ++j, ++k) s2[k] += dm[i] * dm[j];
+  }
+  void addTo(MomentsN<Dim>* m) const {
+    m->n += n[0] + n[1];
+    for (int i = 0; i < Dim; ++i) m->sum(i) += s[i][0] + s[i][1];
+    int k = 0;
+    for (int i = 0; i < Dim; ++i)
+      for (int j = i; j < Dim; ++j, ++k) m->sum2(i, j) += s2[k][0] + s2[k][1];
+  }
+};
+
+template <int Dim>
+void addWithinVector(const NeighbourGrid& g, const Span* spans, std::size_t num_spans,
+                     const Vec3& q, double r2, MomentsN<Dim>* m) {
+  const double* c[Dim];
+  V2 qv[Dim];
+  for (int a = 0; a < Dim; ++a) {
+    c[a] = g.coordinates(a);
+    qv[a] = V2{q(a), q(a)};
+  }
+  const V2 rr = {r2, r2};
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  // Two accumulators, four points per step: the sums' add latency is not one long chain.
+  VectorLanes<Dim> acc[2];
+  V2 d[Dim], e[Dim];
+  auto load = [&](uint32_t i, V2* out) {
+    for (int a = 0; a < Dim; ++a) {
+      V2 v;
+      std::memcpy(&v, c[a] + i, sizeof v);  // unaligned load
+      out[a] = v - qv[a];
+    }
+  };
+  for (std::size_t s = 0; s < num_spans; ++s) {
+    uint32_t i = spans[s].begin;
+    const uint32_t end = spans[s].end;
+    for (; i + 4 <= end; i += 4) {
+      load(i, d);
+      load(i + 2, e);
+      acc[0].add(d, rr);
+      acc[1].add(e, rr);
+    }
+    if (i + 2 <= end) {
+      load(i, d);
+      acc[0].add(d, rr);
+      i += 2;
+    }
+    if (i < end) {  // one point left: the other lane at +inf is outside (inf > r2)
+      for (int a = 0; a < Dim; ++a) d[a] = V2{c[a][i], kInf} - qv[a];
+      acc[1].add(d, rr);
+    }
+  }
+  acc[0].addTo(m);
+  acc[1].addTo(m);
 }
 
 #ifdef CORAL_AVX2_KERNEL
@@ -118,42 +202,61 @@ CORAL_AVX2 void addWithinAvx2(const NeighbourGrid& g, const Span* spans, std::si
   acc.addTo(m);
 }
 
-// Fewer candidates than this go one at a time (addWithin).
-constexpr std::size_t kMinVectorCandidates = 8;
-
-bool avx2Usable() {
-  static const bool usable = [] {
-    const char* env = std::getenv("CORAL_KERNEL");
-    if (env != nullptr && std::strcmp(env, "portable") == 0) return false;
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  }();
-  return usable;
+bool avx2Supported() {
+  __builtin_cpu_init();
+  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 }
 #else
-bool avx2Usable() { return false; }
+bool avx2Supported() { return false; }
 #endif
+
+// Fewer candidates than this go one at a time (fewer instructions than masked four-point
+// blocks plus the final sum of the lanes: sparse radar cells hold 1-3 points).
+constexpr std::size_t kMinVectorCandidates = 8;
+
+// What kBest runs: CORAL_KERNEL=portable (the generic vector path) or scalar (one point at a
+// time) in the environment, read once per process; else AVX2 where the processor has it.
+MomentKernel bestKernel() {
+  static const MomentKernel best = [] {
+    const char* env = std::getenv("CORAL_KERNEL");
+    if (env != nullptr && std::strcmp(env, "portable") == 0) return MomentKernel::kPortable;
+    if (env != nullptr && std::strcmp(env, "scalar") == 0) return MomentKernel::kScalar;
+    return avx2Supported() ? MomentKernel::kBest : MomentKernel::kPortable;
+  }();
+  return best;
+}
 
 }  // namespace
 
-const char* momentKernelName() { return avx2Usable() ? "avx2" : "portable"; }
+const char* momentKernelName() {
+  switch (bestKernel()) {
+    case MomentKernel::kBest:
+      return "avx2";
+    case MomentKernel::kPortable:
+      return "portable";
+    case MomentKernel::kScalar:
+      return "scalar";
+  }
+  return "portable";
+}
 
 template <int Dim>
 void addWithin(const NeighbourGrid& grid, const Span* spans, std::size_t num_spans, const Vec3& q,
                double r2, MomentsN<Dim>* m, MomentKernel kernel) {
-#ifdef CORAL_AVX2_KERNEL
-  // A few candidates (sparse radar cells hold 1-3 points) cost fewer instructions one at a
-  // time than as masked four-point blocks plus the final sum of the lanes.
   std::size_t candidates = 0;
   for (std::size_t s = 0; s < num_spans; ++s) candidates += spans[s].end - spans[s].begin;
-  if (kernel == MomentKernel::kBest && candidates >= kMinVectorCandidates && avx2Usable()) {
+  if (kernel == MomentKernel::kBest) kernel = bestKernel();
+  if (candidates < kMinVectorCandidates) kernel = MomentKernel::kScalar;
+#ifdef CORAL_AVX2_KERNEL
+  if (kernel == MomentKernel::kBest) {  // bestKernel() says AVX2 is there
     addWithinAvx2<Dim>(grid, spans, num_spans, q, r2, m);
     return;
   }
-#else
-  (void)kernel;
 #endif
-  addWithinPortable<Dim>(grid, spans, num_spans, q, r2, m);
+  if (kernel == MomentKernel::kScalar)
+    addWithinScalar<Dim>(grid, spans, num_spans, q, r2, m);
+  else
+    addWithinVector<Dim>(grid, spans, num_spans, q, r2, m);
 }
 
 template <int Dim>

@@ -1,6 +1,6 @@
-// CorAl's moment kernel (coral/moments_kernel.hpp): both paths (AVX2 four points at a time,
-// portable one at a time) against brute force, on random clouds, short spans (the masked
-// tail of the vector path), ties exactly at the radius and joint two-cloud grids.
+// CorAl's moment kernel (coral/moments_kernel.hpp): every path (AVX2 and generic vectors four
+// points at a time, scalar one at a time) against brute force, on random clouds, short spans (the
+// masked tail of the vector path), ties exactly at the radius and joint two-cloud grids.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -53,10 +53,13 @@ void checkBothPaths(const Points& pts, const std::vector<Vec3>& queries, double 
   const std::vector<Span> spans = shortSpans(pts.size(), rng);
   for (const Vec3& q : queries) {
     const MomentsN<Dim> want = bruteMoments<Dim>(pts, q, r * r);
-    for (MomentKernel k : {MomentKernel::kBest, MomentKernel::kPortable}) {
+    for (MomentKernel k : {MomentKernel::kBest, MomentKernel::kPortable, MomentKernel::kScalar}) {
       MomentsN<Dim> got;
       addWithin<Dim>(grid, spans.data(), spans.size(), q, r * r, &got, k);
-      expectSame(got, want, k == MomentKernel::kBest ? "best kernel" : "portable kernel");
+      expectSame(got, want,
+                 k == MomentKernel::kBest       ? "best kernel"
+                 : k == MomentKernel::kPortable ? "portable kernel"
+                                                : "scalar kernel");
     }
   }
 }

@@ -2,15 +2,16 @@
 // 64-beam pair's time after it): the moments (count, sum, sum of outer products, centred on
 // the query) of the points of a few grid cells that lie within the query's radius.
 //
-// Two implementations of the same sums: on x86-64 processors with AVX2 and FMA (checked
-// at run time, so the package still runs on any x86-64) four points per instruction and no
+// Three implementations of the same sums: on x86-64 processors with AVX2 and FMA (checked at
+// run time, so the package still runs on any x86-64) four points per instruction and no
 // branch per point (a point's inside/outside test is a lane mask, not a jump: about 40 % of
-// the candidates of a lidar query are inside, which a branch predicts badly); elsewhere one
-// point at a time. Both count exactly the same points (|p - q|^2 is rounded alike) and add
-// them in a different order, so their moments differ by rounding only. Calls with fewer
-// than 8 candidates always take the point-at-a-time path (fewer instructions).
-// CORAL_KERNEL=portable in the environment forces it everywhere (benchmarks; read once per
-// process).
+// the candidates of a lidar query are inside, which a branch predicts badly); elsewhere the
+// same branch-free blocks, two points wide, in the compiler's generic vectors (SSE2 on any x86-64,
+// NEON on ARM64): `portable`; and one point at a time (`scalar`). All count exactly the same
+// points (|p - q|^2 is rounded alike) and add them in different orders, so their moments
+// differ by rounding only. Calls with fewer than 8 candidates always take the scalar path
+// (fewer instructions). CORAL_KERNEL=portable or scalar in the environment forces that path
+// everywhere (benchmarks; read once per process).
 #pragma once
 
 #include <cstddef>
@@ -24,9 +25,13 @@ namespace core {
 
 using Span = NeighbourGrid::Span;
 
-enum class MomentKernel { kBest, kPortable };
+enum class MomentKernel {
+  kBest,      // AVX2 where the processor has it, else kPortable (or as CORAL_KERNEL says)
+  kPortable,  // branch-free four-point blocks in generic vectors
+  kScalar,    // one point at a time
+};
 
-// The kernel kBest resolves to on this processor ("avx2" or "portable").
+// The kernel kBest resolves to in this process ("avx2", "portable" or "scalar").
 const char* momentKernelName();
 
 // Adds to *m every point p of the spans with |p - q|^2 <= r2, as the deviation p - q
