@@ -12,7 +12,12 @@ std::string RelativeCheckConfig::validate() const {
   return Problems()
       .require(margin >= 0.0 && margin < 2.0, "relative_margin", "in [0, 2)", margin)
       .require(flat_ratio >= 0.0 && flat_ratio < 1.0, "flat_ratio", "in [0, 1)", flat_ratio)
-      .require(probe_queries >= 0, "probe_queries", ">= 0 (0 = every CorAl query)", probe_queries)
+      .require(probe_queries == 0 || probe_queries >= kMinProbeQueries, "probe_queries",
+               ("0 (every CorAl query) or >= " + std::to_string(kMinProbeQueries) +
+                ": fewer change the relative check's decisions on real pairs and judge ground "
+                "truth misaligned (doc/coral_core.md)")
+                   .c_str(),
+               probe_queries)
       .str();
 }
 

@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <type_traits>
 #include <vector>
 
 #include "coral_introspection/coral/validation.hpp"
@@ -45,53 +47,118 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-// Reads field `f` of point i (any PCD numeric type) as double.
-double fieldValue(const pcl::PCLPointCloud2& c, const pcl::PCLPointField& f, std::size_t i) {
-  const uint8_t* p = c.data.data() + i * c.point_step + f.offset;
-  auto as = [p](auto v) {
-    std::memcpy(&v, p, sizeof(v));
-    return static_cast<double>(v);
-  };
-  switch (f.datatype) {
-    case pcl::PCLPointField::INT8:
-      return as(int8_t());
-    case pcl::PCLPointField::UINT8:
-      return as(uint8_t());
-    case pcl::PCLPointField::INT16:
-      return as(int16_t());
-    case pcl::PCLPointField::UINT16:
-      return as(uint16_t());
-    case pcl::PCLPointField::INT32:
-      return as(int32_t());
-    case pcl::PCLPointField::UINT32:
-      return as(uint32_t());
-    case pcl::PCLPointField::FLOAT32:
-      return as(float());
-    default:
-      return as(double());
+// The value of type T at p as a double; false when that is not exact (a 64-bit integer
+// beyond 2^53 in magnitude). Every other PCD type is exact in a double.
+template <class T>
+bool readExact(const uint8_t* p, double* out) {
+  T v;
+  std::memcpy(&v, p, sizeof(v));  // unaligned-safe
+  *out = static_cast<double>(v);
+  if constexpr (std::is_integral_v<T> && sizeof(T) == 8) {
+    constexpr T kExact = T(1) << 53;
+    if constexpr (std::is_signed_v<T>)
+      return v >= -kExact && v <= kExact;
+    else
+      return v <= kExact;
   }
+  return true;
+}
+
+// The types PCD defines: PCL's datatype, the PCD TYPE and SIZE (for messages), the reader.
+struct PcdType {
+  uint8_t datatype;
+  const char* name;
+  bool (*read)(const uint8_t*, double*);
+};
+using F = pcl::PCLPointField;
+const PcdType kPcdTypes[] = {{F::INT8, "I 1 (int8)", &readExact<int8_t>},
+                             {F::UINT8, "U 1 (uint8)", &readExact<uint8_t>},
+                             {F::INT16, "I 2 (int16)", &readExact<int16_t>},
+                             {F::UINT16, "U 2 (uint16)", &readExact<uint16_t>},
+                             {F::INT32, "I 4 (int32)", &readExact<int32_t>},
+                             {F::UINT32, "U 4 (uint32)", &readExact<uint32_t>},
+                             {F::INT64, "I 8 (int64)", &readExact<int64_t>},
+                             {F::UINT64, "U 8 (uint64)", &readExact<uint64_t>},
+                             {F::FLOAT32, "F 4 (float32)", &readExact<float>},
+                             {F::FLOAT64, "F 8 (float64)", &readExact<double>}};
+
+// nullptr for a datatype PCD does not define: PCL's reader stores an undefined TYPE / SIZE
+// pair (e.g. F 2) as 255, and reads on as if it had no bytes.
+const PcdType* pcdType(uint8_t datatype) {
+  for (const PcdType& t : kPcdTypes)
+    if (t.datatype == datatype) return &t;
+  return nullptr;
+}
+
+std::string pcdTypeName(uint8_t datatype) {
+  const PcdType* t = pcdType(datatype);
+  return t ? t->name : "undefined (datatype " + std::to_string(datatype) + ")";
+}
+
+// Whether field `f` (a coordinate: x, y or z) can be read; else false with the reason. Coordinates
+// must be F 4 or F 8: an integer coordinate is a scaled value (mm, cm, 1/256 m) whose unit the PCD
+// header does not state, so it is refused as the nodelet refuses integer PointCloud2 fields
+// (reading it as metres is off by that scale; 64-bit integers were once read as the bits of a
+// double: every point near 0, merged into one). Intensity, which nothing judges by, may be of
+// any defined type (64-bit integers in binary files only). One value per point (COUNT 1)
+// is expected of each.
+bool checkPcdField(const std::string& path, const pcl::PCLPointField& f, bool coordinate,
+                   bool ascii, std::string* error) {
+  const std::string what = path + ": field '" + f.name + "' ";
+  if (!pcdType(f.datatype))
+    return fail(error, what + "has TYPE / SIZE " + pcdTypeName(f.datatype) +
+                           ": PCD defines F 4, F 8 and I / U 1, 2, 4, 8");
+  if (coordinate && f.datatype != F::FLOAT32 && f.datatype != F::FLOAT64)
+    return fail(error, what + "is TYPE / SIZE " + pcdTypeName(f.datatype) +
+                           ": coordinates are read from F 4 or F 8 only (an integer "
+                           "coordinate is a scaled value of unknown unit; convert it to "
+                           "metres as float32 first)");
+  // PCL's ascii reader parses 64-bit integers through a double: 2^53 + 1 arrives as 2^53,
+  // and nothing after it can tell.
+  if (ascii && (f.datatype == F::INT64 || f.datatype == F::UINT64))
+    return fail(error, what + "is TYPE / SIZE " + pcdTypeName(f.datatype) +
+                           " in an ascii PCD: PCL's ascii reader rounds 64-bit integers "
+                           "through a double (beyond 2^53); store the file as binary");
+  if (f.count != 1)
+    return fail(error,
+                what + "has COUNT " + std::to_string(f.count) + " (1 value per point expected)");
+  return true;
 }
 
 // PCL's reader handles the three PCD encodings (ascii, binary, binary_compressed) and
-// the header; the fields are then read by name whatever their numeric type.
+// the header; the fields are then checked (checkPcdField) and read exactly by name.
 bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
   pcl::PCLPointCloud2 c;
   pcl::PCDReader reader;
-  if (reader.read(path, c) < 0) return fail(error, path + ": not a readable PCD file");
+  Eigen::Vector4f origin;
+  Eigen::Quaternionf orientation;
+  int version = 0, encoding = 0;  // encoding 0: DATA ascii
+  unsigned int data_start = 0;
+  if (reader.readHeader(path, c, origin, orientation, version, encoding, data_start) < 0 ||
+      reader.read(path, c) < 0)
+    return fail(error, path + ": not a readable PCD file");
   const pcl::PCLPointField* f[4] = {nullptr, nullptr, nullptr, nullptr};
   const char* names[4] = {"x", "y", "z", "intensity"};
   for (const pcl::PCLPointField& field : c.fields)
     for (int k = 0; k < 4; ++k)
       if (field.name == names[k]) f[k] = &field;
   if (!f[0] || !f[1] || !f[2]) return fail(error, path + ": PCD file without fields x, y, z");
+  for (int k = 0; k < 4; ++k)
+    if (f[k] && !checkPcdField(path, *f[k], k < 3, encoding == 0, error)) return false;
   const std::size_t n = static_cast<std::size_t>(c.width) * c.height;
   if (c.data.size() < n * c.point_step) return fail(error, path + ": PCD data is truncated");
   cloud->points.resize(n);
-  cloud->intensity.assign(f[3] ? n : 0, 0.f);
+  cloud->intensity.assign(f[3] ? n : 0, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
-    cloud->points[i] =
-        Vec3(fieldValue(c, *f[0], i), fieldValue(c, *f[1], i), fieldValue(c, *f[2], i));
-    if (f[3]) cloud->intensity[i] = static_cast<float>(fieldValue(c, *f[3], i));
+    const uint8_t* point = c.data.data() + i * c.point_step;
+    double v[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int k = 0; k < 4; ++k)
+      if (f[k] && !pcdType(f[k]->datatype)->read(point + f[k]->offset, &v[k]))
+        return fail(error, path + ": field '" + f[k]->name + "' of point " + std::to_string(i) +
+                               " (" + pcdTypeName(f[k]->datatype) +
+                               ") is beyond 2^53 in magnitude: not exact as a double");
+    cloud->points[i] = Vec3(v[0], v[1], v[2]);
+    if (f[3]) cloud->intensity[i] = v[3];
   }
   return true;
 }

@@ -249,6 +249,7 @@ class CoralNodelet : public nodelet::Nodelet {
   void timerCb(const ros::WallTimerEvent&) {
     guarded("diagnostics timer", [&] {
       source_->expirePending();
+      source_->checkInputTopic();
       updater_->force_update();
     });
   }

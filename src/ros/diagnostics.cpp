@@ -58,6 +58,11 @@ void Stats::count(uint64_t InputCounters::*counter, const std::string& error) {
   last_error_ = error;
 }
 
+void Stats::inputTopicProblem(const std::string& problem) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  input_topic_problem_ = problem;
+}
+
 void Stats::nonFinite(std::size_t n) {
   std::lock_guard<std::mutex> lock(mutex_);
   input_.non_finite_points += n;
@@ -130,6 +135,7 @@ void Stats::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
 
   // Each kind of problem since the last report on its own, overload before TF.
   std::vector<std::string> problems;
+  if (!input_topic_problem_.empty()) problems.push_back(input_topic_problem_);
   auto add = [&](uint64_t n, const std::string& what) {
     if (n == 0) return;
     std::ostringstream s;
@@ -164,7 +170,8 @@ void Stats::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   if (!problems.empty()) {
     std::ostringstream s;
     for (std::size_t k = 0; k < problems.size(); ++k) s << (k ? "; " : "") << problems[k];
-    stat.summary(DiagnosticStatus::WARN, s.str());
+    stat.summary(input_topic_problem_.empty() ? DiagnosticStatus::WARN : DiagnosticStatus::ERROR,
+                 s.str());
   } else if (i.received == 0) {
     stat.summary(DiagnosticStatus::OK, "waiting for scans");
   } else {

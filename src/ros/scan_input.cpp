@@ -19,6 +19,11 @@ void setHeader(const std_msgs::Header& h, online::ScanInput* s) {
 }
 }  // namespace
 
+std::string inputKindName(InputType type) {
+  return type == InputType::kPointCloud ? "point clouds (input_type pointcloud)"
+                                        : "polar radar images (input_type polar_image)";
+}
+
 bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, SensorScan* out,
                   std::string* error) {
   *out = SensorScan();

@@ -1,6 +1,9 @@
 #include "coral_introspection/ros/scan_source.hpp"
 
 #include <ros/console.h>
+#include <ros/master.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "coral_introspection/ros/guarded.hpp"
@@ -13,6 +16,23 @@ std::string describe(const std_msgs::Header& h) {
   return "'" + h.frame_id + "' at t = " + std::to_string(h.stamp.toSec());
 }
 }  // namespace
+
+std::string inputTopicTypeError(const std::string& topic, const std::string& published_type,
+                                InputType type) {
+  const bool clouds = type == InputType::kPointCloud;
+  const std::string wanted = clouds
+                                 ? ros::message_traits::DataType<sensor_msgs::PointCloud2>::value()
+                                 : ros::message_traits::DataType<sensor_msgs::Image>::value();
+  if (published_type.empty() || published_type == wanted) return "";
+  return "input topic " + topic + " carries " + published_type +
+         ", but this nodelet is configured for " + inputKindName(type) + " and reads " + wanted +
+         " there: roscpp drops the connection, no scan arrives (" +
+         (clouds ? "remap scan to a PointCloud2 topic, or set input_type polar_image and remap "
+                   "polar_image"
+                 : "remap polar_image to a mono8 polar image topic, or set input_type pointcloud "
+                   "and remap scan") +
+         ")";
+}
 
 ScanSource::ScanSource(ros::NodeHandle& nh, const NodeConfig& cfg, Stats* stats, Sink sink)
     : nh_(nh),
@@ -44,6 +64,7 @@ void ScanSource::subscribe(bool on) {
   // The subscriber queue only has to absorb scheduling jitter: the callbacks convert and
   // hand on (no CorAl), and overload is handled (and counted) by the worker's mailbox.
   const auto queue = static_cast<uint32_t>(cfg_.queue_size);
+  subscribed_ = on;
   if (on && cloud_filter_) cloud_sub_.subscribe(nh_, "scan", queue);
   if (on && image_filter_) image_sub_.subscribe(nh_, "polar_image", queue);
   if (!on) {
@@ -164,6 +185,27 @@ void ScanSource::onScan(const Event<M>& event) {
 void ScanSource::expirePending() {
   for (const auto& [header, receipt] : stats_->expirePending(cfg_.tf_timeout))
     noPose(header, receipt, "not within tf_timeout = " + std::to_string(cfg_.tf_timeout) + " s");
+}
+
+void ScanSource::checkInputTopic() {
+  ros::master::V_TopicInfo topics;
+  if (!subscribed_ || !ros::master::getTopics(topics)) return;  // no master: nothing to tell
+  // The master keeps one type per topic, the last publisher's (a subscriber sets it only
+  // for a topic nobody published yet), so a publisher of another type shows here.
+  const std::string name = topic();
+  std::string published;
+  for (const ros::master::TopicInfo& t : topics)
+    if (t.name == name) published = t.datatype;
+  const std::string error = inputTopicTypeError(name, published, cfg_.input_type);
+  if (error == topic_type_error_) return;
+  topic_type_error_ = error;
+  stats_->inputTopicProblem(error);
+  if (error.empty()) {
+    ROS_INFO("input topic %s: no publisher of another message type any more", name.c_str());
+    return;
+  }
+  std_msgs::Header none;  // stamp 0: the notice belongs to no scan
+  refuse(none, ros::Time::now(), &InputCounters::bad_inputs, error);
 }
 
 void ScanSource::noPose(const std_msgs::Header& header, const ros::Time& receipt,

@@ -38,6 +38,24 @@ TEST(Tolerance, OffsetsPerDimensionWithSizesAndNames) {
   EXPECT_NE(tol.validate().find("translation"), std::string::npos);
 }
 
+// probe_queries: 0 (every query) or enough for the relative check (kMinProbeQueries: fewer
+// changed its decisions on real pairs and judged ground truth misaligned, doc/coral_core.md).
+TEST(RelativeCheckConfig, ProbeQueriesZeroOrAtLeastTheMinimum) {
+  RelativeCheckConfig c;
+  for (int ok : {0, RelativeCheckConfig::kMinProbeQueries, 250, 100000}) {
+    c.probe_queries = ok;
+    EXPECT_EQ(c.validate(), "") << ok;
+  }
+  for (int bad : {-1, 1, 2, RelativeCheckConfig::kMinProbeQueries - 1}) {
+    c.probe_queries = bad;
+    EXPECT_EQ(c.validate(),
+              "probe_queries must be 0 (every CorAl query) or >= 50: fewer change "
+              "the relative check's decisions on real pairs and judge ground truth "
+              "misaligned (doc/coral_core.md) (got " +
+                  std::to_string(bad) + ")");
+  }
+}
+
 namespace {
 // Q of a quadratic bowl c_x dx^2 + c_y dy^2 + c_yaw dyaw^2 (tolerance units) around `truth`,
 // seen from a pose at `at`: the neighbours are at + each offset.

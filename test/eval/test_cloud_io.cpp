@@ -4,7 +4,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <map>
+#include <vector>
 
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "support/test_data.hpp"
@@ -15,6 +18,58 @@ using coral_test::tempPath;
 namespace {
 
 void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+struct PcdField {
+  std::string name;
+  char type;  // PCD TYPE: F, I or U
+  int size;   // PCD SIZE [bytes]
+};
+
+// One value of TYPE / SIZE as stored in a binary PCD (little endian), parsed from its text.
+void appendBinary(const PcdField& f, const std::string& text, std::string* out) {
+  char bytes[8];
+  if (f.type == 'F' && f.size == 4) {
+    const float v = std::stof(text);
+    std::memcpy(bytes, &v, 4);
+  } else if (f.type == 'F') {
+    const double v = std::stod(text);
+    std::memcpy(bytes, &v, 8);
+  } else {  // the low `size` bytes of the two's complement value (x86, ARM: little endian)
+    const uint64_t v = f.type == 'U' ? std::stoull(text) : static_cast<uint64_t>(std::stoll(text));
+    std::memcpy(bytes, &v, 8);
+  }
+  out->append(bytes, static_cast<std::size_t>(f.size));
+}
+
+// Writes a PCD file with these fields (COUNT 1 each) and rows of values given as text, in
+// the ascii or the binary encoding.
+void writePcd(const std::string& path, const std::vector<PcdField>& fields,
+              const std::vector<std::vector<std::string>>& rows, bool binary) {
+  std::string names, sizes, types, counts;
+  for (const PcdField& f : fields) {
+    names += " " + f.name;
+    sizes += " " + std::to_string(f.size);
+    types += std::string(" ") + f.type;
+    counts += " 1";
+  }
+  const std::string n = std::to_string(rows.size());
+  std::string text = "VERSION 0.7\nFIELDS" + names + "\nSIZE" + sizes + "\nTYPE" + types +
+                     "\nCOUNT" + counts + "\nWIDTH " + n +
+                     "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA " +
+                     (binary ? "binary" : "ascii") + "\n";
+  for (const auto& row : rows)
+    for (std::size_t k = 0; k < fields.size(); ++k)
+      if (binary)
+        appendBinary(fields[k], row[k], &text);
+      else
+        text += row[k] + (k + 1 < fields.size() ? " " : "\n");
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// Every type PCD defines (TYPE, SIZE).
+const std::vector<std::pair<char, int>> kPcdTypes = {{'I', 1}, {'U', 1}, {'I', 2}, {'U', 2},
+                                                     {'I', 4}, {'U', 4}, {'I', 8}, {'U', 8},
+                                                     {'F', 4}, {'F', 8}};
 
 }  // namespace
 
@@ -51,6 +106,114 @@ TEST(CloudIo, PcdWithoutIntensityAndWithoutXyz) {
             "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2\n");
   EXPECT_FALSE(loadCloud(p, &c, &err));
   EXPECT_NE(err.find("x, y, z"), std::string::npos) << err;
+  std::remove(p.c_str());
+}
+
+// x of every PCD type, in both encodings: F 4 and F 8 are read exactly (0.1 stays the double
+// 0.1 in F 8, not the float's 0.100000001), every integer type is refused with the field
+// and its type named: 64-bit integers were once read as the bits of a double (every point
+// ~1e-323 m, all merged into one, then "too few points" instead of the reason).
+TEST(CloudIo, PcdCoordinatesOfEveryTypeAreReadExactlyOrRefused) {
+  const std::string p = tempPath("coord", ".pcd");
+  for (const bool binary : {false, true})
+    for (const auto& [type, size] : kPcdTypes) {
+      SCOPED_TRACE(std::string(binary ? "binary " : "ascii ") + type + " " + std::to_string(size));
+      const std::string x = type == 'F' ? "0.1" : "3";
+      writePcd(p, {{"x", type, size}, {"y", 'F', 4}, {"z", 'F', 8}},
+               {{x, "-2.5", "7"}, {"-" + x, "1", "0.25"}}, binary);
+      LoadedCloud c;
+      std::string err;
+      if (type != 'F') {
+        EXPECT_FALSE(loadCloud(p, &c, &err));
+        const std::string named = std::string("field 'x' is TYPE / SIZE ") + type + " " +
+                                  std::to_string(size) + " (" + (type == 'U' ? "uint" : "int") +
+                                  std::to_string(8 * size) + ")";
+        EXPECT_NE(err.find(named), std::string::npos) << err;
+        EXPECT_NE(err.find("coordinates are read from F 4 or F 8 only"), std::string::npos) << err;
+        continue;
+      }
+      ASSERT_TRUE(loadCloud(p, &c, &err)) << err;
+      ASSERT_EQ(c.points.size(), 2u);
+      const double expected = size == 4 ? static_cast<double>(0.1f) : 0.1;
+      EXPECT_EQ(c.points[0], Vec3(expected, -2.5, 7.0));
+      EXPECT_EQ(c.points[1], Vec3(-expected, 1.0, 0.25));
+    }
+  std::remove(p.c_str());
+}
+
+// intensity (read by nothing that judges) of every PCD type, at the ends of its range: read
+// exactly into a double (uint32 4294967295 would be 4294967296 as a float). A 64-bit value
+// (binary files) is exact up to 2^53 in magnitude; beyond it the file is refused, not
+// rounded. In an ascii file PCL itself rounds 64-bit integers (2^53 + 1 arrives as 2^53):
+// refused whatever the values.
+TEST(CloudIo, PcdIntensityOfEveryTypeIsReadExactly) {
+  const std::string p = tempPath("intensity", ".pcd");
+  const std::map<std::string, std::pair<std::string, double>> extremes = {
+      {"I1", {"-128", -128.0}},
+      {"U1", {"255", 255.0}},
+      {"I2", {"-32768", -32768.0}},
+      {"U2", {"65535", 65535.0}},
+      {"I4", {"-2147483648", -2147483648.0}},
+      {"U4", {"4294967295", 4294967295.0}},
+      {"I8", {"-9007199254740992", -9007199254740992.0}},
+      {"U8", {"9007199254740992", 9007199254740992.0}},
+      {"F4", {"0.1", static_cast<double>(0.1f)}},
+      {"F8", {"0.1", 0.1}}};
+  for (const bool binary : {false, true})
+    for (const auto& [type, size] : kPcdTypes) {
+      const std::string key = type + std::to_string(size);
+      SCOPED_TRACE(std::string(binary ? "binary " : "ascii ") + key);
+      const auto& [text, value] = extremes.at(key);
+      writePcd(p, {{"x", 'F', 4}, {"y", 'F', 4}, {"z", 'F', 4}, {"intensity", type, size}},
+               {{"1", "2", "3", text}, {"4", "5", "6", "0"}}, binary);
+      LoadedCloud c;
+      std::string err;
+      if (!binary && size == 8 && type != 'F') {  // PCL parses these through a double
+        EXPECT_FALSE(loadCloud(p, &c, &err));
+        EXPECT_NE(err.find("field 'intensity' is TYPE / SIZE " + std::string(1, type) + " 8 (" +
+                           (type == 'U' ? "u" : "") + "int64) in an ascii PCD"),
+                  std::string::npos)
+            << err;
+        continue;
+      }
+      ASSERT_TRUE(loadCloud(p, &c, &err)) << err;
+      ASSERT_EQ(c.intensity.size(), 2u);
+      EXPECT_EQ(c.intensity[0], value);
+      EXPECT_EQ(c.intensity[1], 0.0);
+      EXPECT_EQ(c.points[1], Vec3(4, 5, 6));
+    }
+  for (const auto& [type, text] : {std::pair<char, std::string>{'I', "9007199254740993"},
+                                   {'I', "-9007199254740993"},
+                                   {'U', "18446744073709551615"}}) {
+    SCOPED_TRACE(text);
+    writePcd(p, {{"x", 'F', 4}, {"y", 'F', 4}, {"z", 'F', 4}, {"intensity", type, 8}},
+             {{"1", "2", "3", "0"}, {"4", "5", "6", text}}, true);
+    LoadedCloud c;
+    std::string err;
+    EXPECT_FALSE(loadCloud(p, &c, &err));
+    EXPECT_NE(err.find("field 'intensity' of point 1"), std::string::npos) << err;
+    EXPECT_NE(err.find("beyond 2^53"), std::string::npos) << err;
+  }
+  std::remove(p.c_str());
+}
+
+// A TYPE / SIZE pair PCD does not define (half floats, 3-byte integers) and a COUNT other
+// than 1 (the next field would be read as part of this one, or nothing at all) are refused.
+TEST(CloudIo, PcdUndefinedTypeSizeAndCountAreRefused) {
+  const std::string p = tempPath("undefined", ".pcd");
+  const std::string tail = "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n";
+  LoadedCloud c;
+  std::string err;
+  for (const char* sizes_types : {"SIZE 2 4 4\nTYPE F F F\n", "SIZE 4 3 4\nTYPE F I F\n"}) {
+    writeText(p, std::string("VERSION 0.7\nFIELDS x y z\n") + sizes_types + "COUNT 1 1 1\n" + tail +
+                     "1 2 3\n");
+    EXPECT_FALSE(loadCloud(p, &c, &err)) << sizes_types;
+    EXPECT_NE(err.find("PCD defines F 4, F 8 and I / U 1, 2, 4, 8"), std::string::npos) << err;
+  }
+  writeText(
+      p, "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 2 1 1\n" + tail + "1 9 2 3\n");
+  EXPECT_FALSE(loadCloud(p, &c, &err));
+  EXPECT_NE(err.find("field 'x' has COUNT 2"), std::string::npos) << err;
   std::remove(p.c_str());
 }
 

@@ -4,6 +4,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "coral_introspection/ros/conversions.hpp"
@@ -137,6 +138,54 @@ TEST(CloudToPoints, IntegerFieldsAreRefusedWithTheType) {
   EXPECT_FALSE(ros_adapters::cloudToPoints(v, &pts, &err, nullptr, "velocity", &vel));
   EXPECT_NE(err.find("field 'velocity' is uint8"), std::string::npos) << err;
   EXPECT_TRUE(ros_adapters::cloudToPoints(v, &pts, &err)) << "an unused integer field is fine";
+}
+
+// Every PointField datatype as y (and as the extra field): float32 and float64 are read
+// exactly (float64 0.1 + 1e-12 is not rounded through a float), the six integer types are
+// refused naming field and type, a datatype sensor_msgs does not define (0, 9, 255) is
+// refused as unknown. The field's bytes hold a value that would be read wrongly otherwise.
+TEST(CloudToPoints, EveryDatatypeIsReadExactlyOrRefused) {
+  const char* const names[] = {"", "int8", "uint8", "int16", "uint16", "int32", "uint32"};
+  const double fine = 0.1 + 1e-12;
+  for (int t = 0; t <= 255; ++t) {
+    const auto datatype = static_cast<uint8_t>(t);
+    SCOPED_TRACE("datatype " + std::to_string(t));
+    for (const bool extra : {false, true}) {
+      auto c = makeCloud({{"x", PointField::FLOAT32},
+                          {"y", PointField::FLOAT64},
+                          {"z", PointField::FLOAT32},
+                          {"v", PointField::FLOAT64}},
+                         [&](uint32_t i, std::size_t k) { return k % 2 ? fine * (i + 1) : 1.0; });
+      c.fields[extra ? 3 : 1].datatype = datatype;
+      if (datatype == PointField::FLOAT32)  // the first 4 bytes as a float32 of its own
+        for (uint32_t i = 0; i < 4; ++i) {
+          const float f = static_cast<float>(fine * (i + 1));
+          const uint32_t row = i / 2, col = i % 2;
+          std::memcpy(c.data.data() + row * c.row_step + col * c.point_step +
+                          c.fields[extra ? 3 : 1].offset,
+                      &f, 4);
+        }
+      core::Points pts;
+      std::vector<double> v;
+      std::string err;
+      const bool ok = ros_adapters::cloudToPoints(c, &pts, &err, nullptr, "v", &v);
+      if (datatype == PointField::FLOAT32 || datatype == PointField::FLOAT64) {
+        ASSERT_TRUE(ok) << err;
+        ASSERT_EQ(pts.size(), 4u);
+        const double want =
+            datatype == PointField::FLOAT64 ? fine * 4 : static_cast<float>(fine * 4);
+        EXPECT_EQ(extra ? v[3] : pts[3].y(), want);
+        continue;
+      }
+      EXPECT_FALSE(ok);
+      EXPECT_TRUE(pts.empty());
+      const std::string field = extra ? "field 'v'" : "field 'y'";
+      const std::string why = datatype >= PointField::INT8 && datatype <= PointField::UINT32
+                                  ? field + " is " + names[datatype] + ": only float32/float64"
+                                  : field + " has unknown datatype " + std::to_string(t);
+      EXPECT_NE(err.find(why), std::string::npos) << err;
+    }
+  }
 }
 
 TEST(CloudToPoints, MissingXyzIsAClearError) {

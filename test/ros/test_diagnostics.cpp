@@ -1,10 +1,12 @@
 // CoralNodelet's diagnostics (no ROS master): overload, slow scans and TF failures are
 // reported apart; a scan over the time budget is reported while it still runs; scans
-// waiting for TF resolve once (duplicates too); header.seq gaps count lost scans.
+// waiting for TF resolve once (duplicates too); header.seq gaps count lost scans; an input
+// topic of another message type is an ERROR while it lasts.
 #include <gtest/gtest.h>
 
 #include "coral_introspection/AlignmentQuality.h"
 #include "coral_introspection/ros/diagnostics.hpp"
+#include "coral_introspection/ros/scan_source.hpp"
 
 using coral_introspection::AlignmentQuality;
 using namespace coral_introspection::ros_adapters;
@@ -140,3 +142,33 @@ TEST_F(Diagnostics, SequenceGapsCountScansLostUpstream) {
 }
 
 }  // namespace
+
+// The input topic published with another message type: nothing can arrive, so every report
+// is an ERROR led by why until the mismatch is gone (then OK again).
+TEST_F(Diagnostics, InputTopicOfAnotherTypeIsAnErrorUntilGone) {
+  const std::string polar_on_scan =
+      inputTopicTypeError("/scan", "sensor_msgs/Image", InputType::kPointCloud);
+  EXPECT_EQ(polar_on_scan,
+            "input topic /scan carries sensor_msgs/Image, but this nodelet is configured for "
+            "point clouds (input_type pointcloud) and reads sensor_msgs/PointCloud2 there: "
+            "roscpp drops the connection, no scan arrives (remap scan to a PointCloud2 topic, "
+            "or set input_type polar_image and remap polar_image)");
+  EXPECT_NE(inputTopicTypeError("/polar_image", "sensor_msgs/PointCloud2", InputType::kPolarImage)
+                .find("configured for polar radar images (input_type polar_image) and reads "
+                      "sensor_msgs/Image there"),
+            std::string::npos);
+  EXPECT_EQ(inputTopicTypeError("/scan", "sensor_msgs/PointCloud2", InputType::kPointCloud), "");
+  EXPECT_EQ(inputTopicTypeError("/polar_image", "sensor_msgs/Image", InputType::kPolarImage), "");
+  EXPECT_EQ(inputTopicTypeError("/scan", "", InputType::kPointCloud), "");  // no publisher
+
+  Stats s;
+  s.inputTopicProblem(polar_on_scan);
+  for (int report = 0; report < 2; ++report) {  // not only in the first report
+    const Report r = diagnose(s);
+    EXPECT_EQ(r.level, diagnostic_msgs::DiagnosticStatus::ERROR);
+    EXPECT_EQ(r.summary, polar_on_scan);
+  }
+  s.inputTopicProblem("");
+  const Report r = diagnose(s);
+  EXPECT_EQ(r.level, diagnostic_msgs::DiagnosticStatus::OK) << r.summary;
+}

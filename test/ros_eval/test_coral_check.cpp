@@ -156,6 +156,12 @@ TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
   std::ofstream(radar_preset) << "input_type: polar_image\n";
   const std::string bad_preset = tempPath("cc_badp", ".yaml");
   std::ofstream(bad_preset) << "coral:\n  radius: -1.0\n";
+  const std::string probe_preset = tempPath("cc_probe", ".yaml");
+  std::ofstream(probe_preset) << "classifier:\n  probe_queries: 1\n";
+  const std::string int64_pcd = tempPath("cc_int64", ".pcd");  // read as doubles once: ~1e-323 m
+  std::ofstream(int64_pcd) << "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE I I I\nCOUNT 1 1 1\n"
+                              "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA binary\n"
+                           << std::string("\1\0\0\0\0\0\0\0\2\0\0\0\0\0\0\0\3\0\0\0\0\0\0\0", 24);
   const std::string shear = tempPath("cc_shear", ".txt");
   std::ofstream(shear) << "1 0.5 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
   const Case cases[] = {
@@ -166,6 +172,10 @@ TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
        "polar_image"},
       {"--config " + bad_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
        "radius"},
+      {"--config " + probe_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
+       "classifier/probe_queries must be 0 (every CorAl query) or >= 50"},
+      {"--config " + preset_ + " --a " + int64_pcd + " --b " + b_ + " --transform_file " + t_good_,
+       "field 'x' is TYPE / SIZE I 8 (int64): coordinates are read from F 4 or F 8 only"},
       {args(t_good_) + " --repeat 0", "--repeat"},
       {args(t_good_) + " --bogus 1", "unknown argument"},
       {"--config " + preset_ + " --a " + a_, "required"},

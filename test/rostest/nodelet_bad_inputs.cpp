@@ -5,6 +5,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <limits>
+#include <optional>
 
 using namespace coral_test;
 using coral_introspection::AlignmentQuality;
@@ -38,6 +39,7 @@ class BadInputs : public ::testing::Test {
             values.clear();
             for (const auto& kv : st.values) values[kv.key] = kv.value;
             values["__message"] = st.message;
+            values["__level"] = std::to_string(st.level);
           }
     }
     return values;
@@ -190,6 +192,55 @@ TEST_F(BadInputs, ImagePathSurvivesWrongEncodingAndSize) {
   const auto d = diagnostics("radar/coral");
   ASSERT_FALSE(d.empty()) << "no diagnostics from radar/coral";
   EXPECT_GE(std::stoul(d.at("bad inputs")), 3u);
+  EXPECT_EQ(std::stoul(d.at("callback errors")), 0u);
+}
+
+// Polar images published on the lidar nodelet's `scan`: roscpp drops every such connection
+// before a callback, so the nodelet asks the master. It refuses the topic with one REFUSED
+// notice (stamp 0: no scan) and reports an ERROR while that publisher exists; once it is
+// gone, diagnostics recover and point clouds are judged again.
+TEST_F(BadInputs, InputTopicOfAnotherTypeIsRefused) {
+  Collector<AlignmentQuality> verdicts(nh_, "/lidar/alignment");
+  Collector<AlignmentQuality> all(nh_, "/lidar/alignment", keepAll<AlignmentQuality>);
+  const std::string why =
+      "input topic /lidar/scan carries sensor_msgs/Image, but this nodelet is configured for "
+      "point clouds (input_type pointcloud)";
+  auto refusedNotice = [&]() -> std::optional<AlignmentQuality> {
+    for (const AlignmentQuality& m : all.all())
+      if (m.status == AlignmentQuality::REFUSED && m.reason.find(why) == 0) return m;
+    return std::nullopt;
+  };
+  {
+    ros::Publisher images = nh_.advertise<sensor_msgs::Image>("/lidar/scan", 1);
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(10.0);
+    while (!refusedNotice() && ros::WallTime::now() < end) ros::WallDuration(0.1).sleep();
+    const std::optional<AlignmentQuality> notice = refusedNotice();
+    ASSERT_TRUE(notice) << "no REFUSED notice for images on /lidar/scan";
+    EXPECT_TRUE(notice->stamp_b.isZero());
+    EXPECT_FALSE(notice->valid);
+    const auto d = diagnostics("lidar/coral");
+    ASSERT_FALSE(d.empty());
+    EXPECT_EQ(d.at("__level"), std::to_string(diagnostic_msgs::DiagnosticStatus::ERROR));
+    EXPECT_EQ(d.at("__message").find(why), 0u) << d.at("__message");
+    ros::WallDuration(1.5).sleep();  // later checks do not repeat the notice
+    int notices = 0;
+    for (const AlignmentQuality& m : all.all()) notices += m.reason.find(why) == 0;
+    EXPECT_EQ(notices, 1);
+  }
+  // The image publisher is gone: no ERROR any more, and clouds give verdicts again.
+  ros::Publisher pub = nh_.advertise<sensor_msgs::PointCloud2>("/lidar/scan", 10);
+  ASSERT_TRUE(waitForSubscriber(pub));
+  const std::size_t before = verdicts.size();
+  ros::Time clock = ros::Time::now();
+  for (int k = 0; k < 4; ++k, clock += ros::Duration(0.1)) {  // the first restarts the pairing
+    const Eigen::Isometry3d T = trajectory(0.1 * k);
+    send(pub, lidarCloud(T, clock, "lidar", rng_, 1), clock, "lidar", T);
+  }
+  ASSERT_TRUE(verdicts.waitFor(before + 2, 10.0));
+  EXPECT_TRUE(verdicts.all().back().valid) << verdicts.all().back().reason;
+  const auto d = diagnostics("lidar/coral");
+  ASSERT_FALSE(d.empty());
+  EXPECT_EQ(d.at("__message").find("input topic"), std::string::npos) << d.at("__message");
   EXPECT_EQ(std::stoul(d.at("callback errors")), 0u);
 }
 

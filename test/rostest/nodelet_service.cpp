@@ -86,6 +86,62 @@ TEST(CheckAlignment, PolarImagesCorrectVsOffsetTransform) {
   EXPECT_FALSE(srv.response.result.aligned) << "Q = " << srv.response.result.quality;
 }
 
+// Each nodelet judges only its own kind of scans: the other kind, no scan, one scan or
+// both kinds are refused with the reason (a call that succeeds, status REFUSED), and the
+// service keeps judging. Polar images sent to the 3D lidar nodelet were answered "aligned,
+// p = 1, Q = 0" for any transform before.
+TEST(CheckAlignment, WrongKindsOfScansAreRefusedWithTheReason) {
+  std::mt19937 rng(7);
+  CheckAlignment clouds, images;
+  clouds.request.cloud_a = lidarCloud(T_world_a, ros::Time(10.0), "lidar_a", rng);
+  clouds.request.cloud_b = lidarCloud(T_world_b, ros::Time(11.0), "lidar_b", rng);
+  images.request.image_a =
+      polarImage([](double) { return T_world_a; }, 0.0, ros::Time(10.0), "radar");
+  images.request.image_b =
+      polarImage([](double) { return T_world_b; }, 0.0, ros::Time(11.0), "radar");
+  CheckAlignment none, one, mixed;
+  one.request.cloud_a = clouds.request.cloud_a;
+  mixed.request.cloud_a = clouds.request.cloud_a;
+  mixed.request.image_b = images.request.image_b;
+  const struct {
+    const char* service;
+    CheckAlignment* srv;
+    const char* why;
+  } cases[] = {
+      {"/lidar/check_alignment", &images,
+       "this nodelet is configured for point clouds (input_type pointcloud); the request holds "
+       "polar images (image_a, image_b)"},
+      {"/radar/check_alignment", &clouds,
+       "this nodelet is configured for polar radar images (input_type polar_image); the "
+       "request holds point clouds (cloud_a, cloud_b)"},
+      {"/lidar/check_alignment", &none, "the request holds no scan"},
+      {"/lidar/check_alignment", &one, "cloud_b is empty"},
+      {"/radar/check_alignment", &mixed, "the request mixes point clouds and polar images"},
+  };
+  for (const auto& c : cases) {
+    for (const Eigen::Isometry3d& T : {T_a_b, T_a_b_wrong}) {
+      c.srv->request.transform_a_b = ros_adapters::toTransformMsg(T);
+      ASSERT_TRUE(call(c.service, *c.srv)) << c.why;
+      const auto& r = c.srv->response.result;
+      EXPECT_EQ(r.status, coral_introspection::AlignmentQuality::REFUSED) << c.why;
+      EXPECT_FALSE(r.valid);
+      EXPECT_FALSE(r.aligned);
+      EXPECT_EQ(r.quality, 0.0);
+      EXPECT_EQ(c.srv->response.error.rfind(std::string("request refused: ") + c.why, 0), 0u)
+          << c.srv->response.error;
+    }
+  }
+  // Each kind to its own nodelet is judged as before.
+  for (const auto& [service, srv] :
+       {std::pair<const char*, CheckAlignment*>{"/lidar/check_alignment", &clouds},
+        {"/radar/check_alignment", &images}}) {
+    srv->request.transform_a_b = ros_adapters::toTransformMsg(T_a_b);
+    ASSERT_TRUE(call(service, *srv));
+    EXPECT_TRUE(srv->response.result.valid) << service << ": " << srv->response.error;
+    EXPECT_TRUE(srv->response.result.aligned) << service;
+  }
+}
+
 TEST(CheckAlignment, TrainedClassifierFileIsUsedAsIs) {
   // The nodelet in /trained loaded config/classifier_radar_oxford.yaml (coral_train's
   // output) on top of the radar preset: its verdicts must follow Eq. 9 with those betas.

@@ -1,6 +1,7 @@
 // Point clouds, transforms and pose lists from files, for tools and tests. ROS-free.
-//  - .pcd (ascii / binary / binary_compressed; fields x y z [intensity] of any numeric
-//    type): read with PCL's PCD reader;
+//  - .pcd (ascii / binary / binary_compressed): read with PCL's PCD reader; fields x y z
+//    of TYPE F (SIZE 4 or 8), [intensity] of any PCD type, each read exactly; integer
+//    coordinates, undefined TYPE / SIZE pairs and COUNT other than 1 are refused;
 //  - .bin (KITTI / Velodyne): float32 records x, y, z, intensity;
 //  - .csv (libpointmatcher): a header line, then x, y, z[, more columns] per line.
 #pragma once
@@ -14,8 +15,8 @@ namespace coral_introspection {
 namespace core {
 
 struct LoadedCloud {
-  Points points;                 // as stored (non-finite points kept: CorAl drops them)
-  std::vector<float> intensity;  // same size as points, or empty when the file has none
+  Points points;                  // as stored (non-finite points kept: CorAl drops them)
+  std::vector<double> intensity;  // same size as points, or empty when the file has none
 };
 
 // Chooses the reader by the file extension (.pcd, .bin, .csv; case-insensitive). False

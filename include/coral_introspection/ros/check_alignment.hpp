@@ -8,9 +8,17 @@
 namespace coral_introspection {
 namespace ros_adapters {
 
-// Fills res->result, and res->error with why there is no verdict (malformed cloud or
-// image, bad transform, too little overlap, ...). Returns false when the request itself
-// was malformed (refused), true when it was judged (with or without a verdict).
+// Empty when the request holds the two scans of the kind this nodelet judges (cloud_a and
+// cloud_b for input_type pointcloud, image_a and image_b for polar_image); otherwise why it
+// is refused: the other kind (planar radar features judged by a 3D lidar nodelet came out
+// "aligned, Q = 0" for any transform), both kinds, one scan only, or none. A
+// field counts as given when anything but its header is set.
+std::string requestKindError(const CheckAlignment::Request& req, InputType type);
+
+// Fills res->result, and res->error with why there is no verdict (the wrong kind of scans
+// for this nodelet, malformed cloud or image, bad transform, too little overlap, ...). Returns
+// false when the request itself was malformed (refused), true when it was judged (with or without a
+// verdict).
 bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& cfg,
                           CheckAlignment::Response* res);
 

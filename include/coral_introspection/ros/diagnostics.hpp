@@ -67,6 +67,9 @@ class Stats {
   std::vector<std::pair<std_msgs::Header, ros::Time>> expirePending(double timeout);
 
   void count(uint64_t InputCounters::*counter, const std::string& error);
+  // Why no scan can arrive at all (the input topic carries another message type), or empty:
+  // while set, every report is an ERROR led by it (a counter would warn only once).
+  void inputTopicProblem(const std::string& problem);
   void nonFinite(std::size_t n);
   void late();
   void tfCleared();
@@ -103,7 +106,7 @@ class Stats {
   Window window_;
   ros::WallTime last_report_ = ros::WallTime::now();
   std::optional<std::pair<ros::WallTime, ros::Time>> busy_;  // since, scan stamp
-  std::string last_error_, last_tf_failure_, last_no_verdict_;
+  std::string last_error_, last_tf_failure_, last_no_verdict_, input_topic_problem_;
   std::multimap<Key, Pending> pending_;
 };
 

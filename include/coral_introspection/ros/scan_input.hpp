@@ -20,6 +20,10 @@ struct SensorScan {
   std::size_t dropped_non_finite = 0;  // cloud points with NaN/Inf
 };
 
+// "point clouds (input_type pointcloud)" or "polar radar images (input_type polar_image)":
+// what a nodelet of this type judges, for the messages refusing the other kind.
+std::string inputKindName(InputType type);
+
 // PointCloud2 -> points (sensor frame). With doppler/enabled and the cloud holding
 // doppler/velocity_field, the field is read into scan.radial_velocity. A cloud without a
 // finite point is an error (dropped_non_finite still counts its NaN/Inf points).

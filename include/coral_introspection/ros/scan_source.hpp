@@ -9,13 +9,17 @@
 //  - a scan stamp jumping back by more than TfFeed::kJumpBack clears the TF buffer when it
 //    still holds the transforms of before the jump (looping bag), so the scan waits for the
 //    replayed TF instead of failing;
-//  - header.seq gaps per publisher count scans lost before the nodelet.
+//  - header.seq gaps per publisher count scans lost before the nodelet;
+//  - an input topic published with another message type (polar images on `scan`, clouds on
+//    `polar_image`) delivers nothing (roscpp drops such a connection before any callback):
+//    checkInputTopic() asks the master, refuses it once and keeps it in the diagnostics.
 #pragma once
 
 #include <message_filters/subscriber.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/message_filter.h>
 
+#include <atomic>
 #include <functional>
 #include <memory>
 
@@ -41,6 +45,12 @@ struct ScanEvent {
   std::string reason;  // kRefused, kDropped
 };
 
+// Empty when `published_type` (the input topic's message type as the master lists it; empty
+// when nobody publishes it) is what a nodelet of `type` reads there; otherwise why none of
+// the topic's messages can be received.
+std::string inputTopicTypeError(const std::string& topic, const std::string& published_type,
+                                InputType type);
+
 class ScanSource {
  public:
   using Sink = std::function<void(ScanEvent event)>;
@@ -50,6 +60,9 @@ class ScanSource {
   ~ScanSource();
   void subscribe(bool on);  // lazy input: only while an output has subscribers
   void expirePending();     // scans waiting for TF longer than tf_timeout: TF failures
+  // While subscribed: the input topic's type from the master. A new mismatch is refused (one
+  // REFUSED notice, stamp 0: no scan) and kept in the diagnostics until it is gone.
+  void checkInputTopic();
   std::string topic() const;
 
  private:
@@ -75,6 +88,8 @@ class ScanSource {
   tf2_ros::Buffer tf_buffer_;
   TfFeed tf_feed_;
   online::BackwardsJump scan_jumps_{TfFeed::kJumpBack};  // input callbacks only (one thread)
+  std::string topic_type_error_;                         // checkInputTopic (timer thread only)
+  std::atomic<bool> subscribed_{false};                  // set by subscribe(), read by the timer
   message_filters::Subscriber<sensor_msgs::PointCloud2> cloud_sub_;
   message_filters::Subscriber<sensor_msgs::Image> image_sub_;
   std::shared_ptr<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>> cloud_filter_;
