@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "coral_introspection/eval/rio_run.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/rio/config_keys.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
@@ -107,6 +108,10 @@ std::string judgeRun(const Span& imu, const Span& radar, const core::RioRun& run
   return "";
 }
 
+constexpr const char* kUsage =
+    "usage: rio_offline --bag FILE --config FILE.yaml --output TRAJ.tum "
+    "[--set group/key=value]... [--report FRAMES.csv]";
+
 int refuse(const std::string& why) {
   std::cerr << "rio_offline: refused: " << why << "; no trajectory written\n";
   return 1;
@@ -115,31 +120,16 @@ int refuse(const std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string bag_path, config, output, report;
-  std::vector<std::string> overrides;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
-    if (a == "--bag")
-      bag_path = next();
-    else if (a == "--config")
-      config = next();
-    else if (a == "--output")
-      output = next();
-    else if (a == "--report")
-      report = next();
-    else if (a == "--set")
-      overrides.push_back(next());
-    else {
-      std::cerr << "usage: rio_offline --bag FILE --config FILE.yaml --output TRAJ.tum "
-                   "[--set group/key=value]... [--report FRAMES.csv]\n";
-      return 2;
-    }
-  }
-  if (bag_path.empty() || config.empty() || output.empty()) {
-    std::cerr << "rio_offline: --bag, --config and --output are required\n";
-    return 2;
-  }
+  core::ToolArgs args;
+  if (const auto exit =
+          core::readCommandLine("rio_offline", kUsage, argc, argv,
+                                {"--bag", "--config", "--output", "--report", "--set"}, {}, &args))
+    return *exit;
+  const std::string bag_path = args.get("--bag"), config = args.get("--config"),
+                    output = args.get("--output"), report = args.get("--report");
+  const std::vector<std::string> overrides = args.all("--set");
+  if (bag_path.empty() || config.empty() || output.empty())
+    return core::toolError("rio_offline", "--bag, --config and --output are required", kUsage);
   YAML::Node root;
   std::string err;
   try {
