@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/rio_run.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/rio/config_keys.hpp"
@@ -230,13 +231,10 @@ int main(int argc, char** argv) {
   if (cfg.barometer.enabled)
     std::cout << "barometer: frames with a residual " << c.baro_frames << ", bad samples "
               << c.bad_baro + ic.bad_baro << "\n";
-  if (!arrival_lag.empty()) {
-    std::nth_element(arrival_lag.begin(), arrival_lag.begin() + arrival_lag.size() / 2,
-                     arrival_lag.end());
+  if (!arrival_lag.empty())
     std::cout << "radar frame time vs newest IMU stamp at arrival: median "
-              << arrival_lag[arrival_lag.size() / 2] << " s (radar latency; far from it: a clock "
-              << "offset)\n";
-  }
+              << core::quantile(arrival_lag, 0.5)  // a measured lag (upper middle)
+              << " s (radar latency; far from it: a clock offset)\n";
   if (refusal.empty()) refusal = judgeRun(imu_span, radar_span, run, last_input_error);
   if (!refusal.empty()) return refuse(refusal);
   if (!core::writeTum(output, run.trajectory(), &err) ||
