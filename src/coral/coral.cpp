@@ -14,6 +14,7 @@
 #include "coral_introspection/coral/neighbour_grid.hpp"
 #include "coral_introspection/coral/parallel.hpp"
 #include "coral_introspection/coral/point_filter.hpp"
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/coral/validation.hpp"
 #include "coral_introspection/coral/voxel_filter.hpp"
 
@@ -81,17 +82,10 @@ namespace {
 using detail::pointRadius;
 using detail::setPoint;
 
-double median(std::vector<double>& v) {
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  double m = v[mid];
-  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + mid));
-  return m;
-}
-
-double aggregate(std::vector<double>& v, Aggregation agg) {
+// Takes v by value: the median reorders it (callers pass std::move(v)).
+double aggregate(std::vector<double> v, Aggregation agg) {
   if (v.empty()) return 0.0;
-  if (agg == Aggregation::kMedian) return median(v);
+  if (agg == Aggregation::kMedian) return median(std::move(v));
   double s = 0.0;
   for (double x : v) s += x;
   return s / static_cast<double>(v.size());
@@ -265,10 +259,10 @@ void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, 
   res->h_sep_stderr = standardError(hs, fraction, cfg.aggregation);
   res->h_joint_stderr = standardError(hj, fraction, cfg.aggregation);
   res->quality_stderr = standardError(q, fraction, cfg.aggregation);
-  res->h_sep = aggregate(hs, cfg.aggregation);    // Eq. 4 (or its median)
-  res->h_joint = aggregate(hj, cfg.aggregation);  // Eq. 3 (or its median)
-  res->quality = res->h_joint - res->h_sep;       // Eq. 5
-  res->mme = aggregate(mme_terms, Aggregation::kMean);
+  res->h_sep = aggregate(std::move(hs), cfg.aggregation);    // Eq. 4 (or its median)
+  res->h_joint = aggregate(std::move(hj), cfg.aggregation);  // Eq. 3 (or its median)
+  res->quality = res->h_joint - res->h_sep;                  // Eq. 5
+  res->mme = aggregate(std::move(mme_terms), Aggregation::kMean);
   res->overlap = per_point.empty()
                      ? 0.0
                      : static_cast<double>(num_overlap) / static_cast<double>(per_point.size());

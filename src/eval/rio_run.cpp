@@ -5,6 +5,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "coral_introspection/coral/statistics.hpp"
+
 namespace coral_introspection {
 namespace core {
 
@@ -36,10 +38,9 @@ std::string RioRun::summary(double wall_seconds, double duration) const {
   s << "frames processed: " << reports_.size() << " (tracked " << tracked << ", initialising "
     << init << ", resets " << resets << ", rejected " << rejected << ")\n";
   if (!solve.empty()) {
-    std::sort(solve.begin(), solve.end());
     double mean = 0;
     for (double x : solve) mean += x;
-    s << "solver time per frame: median " << solve[solve.size() / 2] << " ms, mean "
+    s << "solver time per frame: median " << quantile(solve, 0.5) << " ms, mean "
       << mean / solve.size() << " ms\n";
   }
   if (wall_seconds > 0 && !reports_.empty()) {

@@ -26,7 +26,9 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/rio_run.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/rio/config_keys.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
@@ -107,6 +109,10 @@ std::string judgeRun(const Span& imu, const Span& radar, const core::RioRun& run
   return "";
 }
 
+constexpr const char* kUsage =
+    "usage: rio_offline --bag FILE --config FILE.yaml --output TRAJ.tum "
+    "[--set group/key=value]... [--report FRAMES.csv]";
+
 int refuse(const std::string& why) {
   std::cerr << "rio_offline: refused: " << why << "; no trajectory written\n";
   return 1;
@@ -115,31 +121,16 @@ int refuse(const std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string bag_path, config, output, report;
-  std::vector<std::string> overrides;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
-    if (a == "--bag")
-      bag_path = next();
-    else if (a == "--config")
-      config = next();
-    else if (a == "--output")
-      output = next();
-    else if (a == "--report")
-      report = next();
-    else if (a == "--set")
-      overrides.push_back(next());
-    else {
-      std::cerr << "usage: rio_offline --bag FILE --config FILE.yaml --output TRAJ.tum "
-                   "[--set group/key=value]... [--report FRAMES.csv]\n";
-      return 2;
-    }
-  }
-  if (bag_path.empty() || config.empty() || output.empty()) {
-    std::cerr << "rio_offline: --bag, --config and --output are required\n";
-    return 2;
-  }
+  core::ToolArgs args;
+  if (const auto exit =
+          core::readCommandLine("rio_offline", kUsage, argc, argv,
+                                {"--bag", "--config", "--output", "--report", "--set"}, {}, &args))
+    return *exit;
+  const std::string bag_path = args.get("--bag"), config = args.get("--config"),
+                    output = args.get("--output"), report = args.get("--report");
+  const std::vector<std::string> overrides = args.all("--set");
+  if (bag_path.empty() || config.empty() || output.empty())
+    return core::toolError("rio_offline", "--bag, --config and --output are required", kUsage);
   YAML::Node root;
   std::string err;
   try {
@@ -240,13 +231,10 @@ int main(int argc, char** argv) {
   if (cfg.barometer.enabled)
     std::cout << "barometer: frames with a residual " << c.baro_frames << ", bad samples "
               << c.bad_baro + ic.bad_baro << "\n";
-  if (!arrival_lag.empty()) {
-    std::nth_element(arrival_lag.begin(), arrival_lag.begin() + arrival_lag.size() / 2,
-                     arrival_lag.end());
+  if (!arrival_lag.empty())
     std::cout << "radar frame time vs newest IMU stamp at arrival: median "
-              << arrival_lag[arrival_lag.size() / 2] << " s (radar latency; far from it: a clock "
-              << "offset)\n";
-  }
+              << core::quantile(arrival_lag, 0.5)  // a measured lag (upper middle)
+              << " s (radar latency; far from it: a clock offset)\n";
   if (refusal.empty()) refusal = judgeRun(imu_span, radar_span, run, last_input_error);
   if (!refusal.empty()) return refuse(refusal);
   if (!core::writeTum(output, run.trajectory(), &err) ||

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
@@ -28,8 +29,8 @@ Twist medianTwist(const std::deque<Twist>& twists) {
   for (int k = 0; k < 6; ++k) {
     for (std::size_t i = 0; i < twists.size(); ++i)
       v[i] = k < 3 ? twists[i].linear[k] : twists[i].angular[k - 3];
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    (k < 3 ? out.linear[k] : out.angular[k - 3]) = v[v.size() / 2];
+    // Per component, a measured value (the upper middle one for an even count).
+    (k < 3 ? out.linear[k] : out.angular[k - 3]) = quantile(v, 0.5);
   }
   return out;
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "coral_introspection/coral/statistics.hpp"
+
 namespace coral_introspection {
 namespace core {
 
@@ -121,8 +123,7 @@ DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_ve
     chi2 += e * e / residualVariance(*o, v, cfg.sigma_doppler);
     f.inliers.push_back(o->index);
   }
-  std::nth_element(abs_res.begin(), abs_res.begin() + abs_res.size() / 2, abs_res.end());
-  f.median_residual = abs_res[abs_res.size() / 2];
+  f.median_residual = quantile(std::move(abs_res), 0.5);  // a measured residual (upper middle)
   f.reduced_chi2 = chi2 / static_cast<double>(in.size() - n);
   f.velocity = v;
   f.covariance = info.inverse();

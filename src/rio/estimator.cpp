@@ -8,6 +8,35 @@
 namespace coral_introspection {
 namespace rio {
 
+namespace {
+
+// IMU interval judged before the very first radar frame (no previous frame): one radar
+// period at the usual 10 Hz.
+constexpr double kFirstIntervalS = 0.1;  // [s]
+
+// Prior of the state a window restarts from (softReset). The pose stays where it is, so that
+// the odometry frame continues: position and yaw (unobservable for the window) held tight,
+// roll and pitch looser, since gravity re-observes them.
+constexpr double kResetSigmaPosition = 1e-3;   // [m]
+constexpr double kResetSigmaRollPitch = 0.02;  // [rad], about 1.1 deg
+constexpr double kResetSigmaYaw = 1e-3;        // [rad]
+
+// Velocity sigmas of a (re)started window, by where its velocity comes from. [m/s]
+// - the IMU prediction of a window whose solve failed or diverged: not checked by any radar
+//   residual, so walking-speed uncertainty;
+constexpr double kSigmaVelocityAfterFailedSolve = 0.5;
+// - an IMU gap bridged with this frame's Doppler velocity: a measured velocity, within the
+//   fit's noise and the attitude held over the gap;
+constexpr double kSigmaVelocityBridgedDoppler = 0.2;
+// - an IMU gap bridged with the previous velocity held (no Doppler fit): the robot may have
+//   accelerated during the gap;
+constexpr double kSigmaVelocityBridgedConstant = 1.0;
+// - a moving start (no static interval): the Doppler velocity with a rough gravity direction
+//   (initializer.hpp), far looser than the standstill's InitConfig::sigma_velocity.
+constexpr double kSigmaVelocityMovingStart = 0.5;
+
+}  // namespace
+
 const char* toString(FrameStatus s) {
   switch (s) {
     case FrameStatus::kInitializing:
@@ -163,6 +192,9 @@ bool Estimator::imuInterval(double t0, double t1, std::vector<ImuSample>* out,
   return out->size() >= 2;
 }
 
+// One radar frame, in phases: input checks, the IMU interval since the previous frame, then
+// either initialisation (empty window), an IMU-gap bridge, or tracking: IMU prediction, radar
+// front end, association, window solve (reset when it fails), outliers and the slide.
 FrameReport Estimator::process(const RadarFrame& f) {
   ++counters_.frames;
   FrameReport report;
@@ -178,71 +210,103 @@ FrameReport Estimator::process(const RadarFrame& f) {
 
   std::vector<ImuSample> interval;
   double gap = 0.0;
-  const double t_prev = window_.empty() ? f.t - 0.1 : window_.back()->t;
+  const double t_prev = window_.empty() ? f.t - kFirstIntervalS : window_.back()->t;
   const bool have_imu = imuInterval(std::max(t_prev, imu_.front().t), f.t, &interval, &gap);
 
-  if (window_.empty()) {  // initialisation from a static start
-    const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
-    if (have_imu && refuseImplausibleImu(interval, fe.standing, &report)) return report;
-    NavState x;
-    bool moving = false;
-    const Vec3* v = fe.doppler_fit ? &fe.v_radar : nullptr;
-    if (!have_imu || !init_.addFrame(f.t, interval, fe.has_doppler, fe.standing, v, &x, &moving)) {
-      report.status = FrameStatus::kInitializing;
-      const ImuStats st = imuStats(interval);
-      report.message = "waiting for a static start (IMU rate std " +
-                       std::to_string(st.gyro_std.maxCoeff()) + " rad/s, specific force std " +
-                       std::to_string(st.acc_std.maxCoeff()) + " m/s^2, Doppler " +
-                       (!fe.has_doppler   ? std::string("none")
-                        : !fe.doppler_fit ? std::string("no consensus")
-                                          : std::to_string(fe.v_radar.norm()) + " m/s") +
-                       ")";
-      return report;
-    }
-    x.t = f.t;
-    auto w = std::make_unique<WindowFrame>();
-    w->id = next_frame_id_++;
-    w->t = f.t;
-    toBlocks(x, &w->x);
-    w->omega = interval.back().gyro;
-    w->standing = fe.standing;
-    attachBaro(t_prev, nullptr, w.get());
-    window_.push_back(std::move(w));
-    const InitConfig& ic = cfg_.init;
-    Vec15 sigma;
-    sigma << Vec3::Constant(ic.sigma_position), ic.sigma_roll_pitch, ic.sigma_roll_pitch,
-        ic.sigma_yaw, Vec3::Constant(moving ? 0.5 : ic.sigma_velocity),
-        Vec3::Constant(ic.sigma_acc_bias), Vec3::Constant(ic.sigma_gyro_bias);
-    installStatePrior(x, sigma);
-    report.status = FrameStatus::kTracking;
-    report.state = x;
-    report.moving_start = moving;
-    report.message =
-        moving ? "started without a static interval" : "initialised from a static start";
+  if (window_.empty()) {
+    initialise(f, t_prev, have_imu, interval, &report);
     return report;
   }
-
-  const WindowFrame& prev = *window_.back();
-  NavState prev_state = prev.state();
   if (!have_imu || gap > cfg_.health.max_imu_gap) {
-    bridgeImuGap(f, have_imu ? gap : f.t - prev.t, &report);
+    bridgeImuGap(f, have_imu ? gap : f.t - window_.back()->t, &report);
     return report;
   }
 
+  NavState pred;
+  std::unique_ptr<WindowFrame> w = predictFrame(f, interval, &pred);
+  const Vec3 v_pred = radarVelocity(pred, w->omega);
+  const FrontEndResult fe = processRadarFrame(f, cfg_, &v_pred);
+  if (refuseImplausibleImu(interval, fe.standing, &report)) return report;
+  takeFrontEnd(fe, interval, w.get(), &report);
+  addToWindow(std::move(w), pred, &report);
+  if (!solveOrReset(pred, &report)) return report;
+  rejectOutliers(&report);
+  report.state = window_.back()->state();
+  report.status = FrameStatus::kTracking;
+  report.landmarks = tracks_.numLandmarks();
+  report.map_points = tracks_.numMapPoints();
+  ++counters_.tracked;
+  slide();
+  return report;
+}
+
+void Estimator::initialise(const RadarFrame& f, double t_prev, bool have_imu,
+                           const std::vector<ImuSample>& interval, FrameReport* report) {
+  // From a static start (StaticInitializer); the first frame is the window's only one.
+  const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
+  if (have_imu && refuseImplausibleImu(interval, fe.standing, report)) return;
+  NavState x;
+  bool moving = false;
+  const Vec3* v = fe.doppler_fit ? &fe.v_radar : nullptr;
+  if (!have_imu || !init_.addFrame(f.t, interval, fe.has_doppler, fe.standing, v, &x, &moving)) {
+    report->status = FrameStatus::kInitializing;
+    const ImuStats st = imuStats(interval);
+    report->message = "waiting for a static start (IMU rate std " +
+                      std::to_string(st.gyro_std.maxCoeff()) + " rad/s, specific force std " +
+                      std::to_string(st.acc_std.maxCoeff()) + " m/s^2, Doppler " +
+                      (!fe.has_doppler   ? std::string("none")
+                       : !fe.doppler_fit ? std::string("no consensus")
+                                         : std::to_string(fe.v_radar.norm()) + " m/s") +
+                      ")";
+    return;
+  }
+  x.t = f.t;
+  auto w = std::make_unique<WindowFrame>();
+  w->id = next_frame_id_++;
+  w->t = f.t;
+  toBlocks(x, &w->x);
+  w->omega = interval.back().gyro;
+  w->standing = fe.standing;
+  attachBaro(t_prev, nullptr, w.get());
+  window_.push_back(std::move(w));
+  const InitConfig& ic = cfg_.init;
+  Vec15 sigma;
+  sigma << Vec3::Constant(ic.sigma_position), ic.sigma_roll_pitch, ic.sigma_roll_pitch,
+      ic.sigma_yaw, Vec3::Constant(moving ? kSigmaVelocityMovingStart : ic.sigma_velocity),
+      Vec3::Constant(ic.sigma_acc_bias), Vec3::Constant(ic.sigma_gyro_bias);
+  installStatePrior(x, sigma);
+  report->status = FrameStatus::kTracking;
+  report->state = x;
+  report->moving_start = moving;
+  report->message =
+      moving ? "started without a static interval" : "initialised from a static start";
+}
+
+std::unique_ptr<Estimator::WindowFrame> Estimator::predictFrame(
+    const RadarFrame& f, const std::vector<ImuSample>& interval, NavState* pred) {
+  // The new frame's state: the previous one propagated by the IMU preintegration.
+  const WindowFrame& prev = *window_.back();
+  const NavState prev_state = prev.state();
   auto w = std::make_unique<WindowFrame>();
   w->id = next_frame_id_++;
   w->t = f.t;
   w->pre =
       std::make_unique<Preintegration>(interval.front(), prev_state.ba, prev_state.bg, cfg_.imu);
   for (std::size_t k = 1; k < interval.size(); ++k) w->pre->push(interval[k]);
-  NavState pred = w->pre->predict(prev_state);
-  pred.t = f.t;
-  toBlocks(pred, &w->x);
+  *pred = w->pre->predict(prev_state);
+  pred->t = f.t;
+  toBlocks(*pred, &w->x);
   attachBaro(prev.t, &prev, w.get());
   w->omega = interval.back().gyro;
-  const Vec3 v_pred = radarVelocity(pred, w->omega);
-  const FrontEndResult fe = processRadarFrame(f, cfg_, &v_pred);
-  if (refuseImplausibleImu(interval, fe.standing, &report)) return report;
+  return w;
+}
+
+void Estimator::takeFrontEnd(const FrontEndResult& fe, const std::vector<ImuSample>& interval,
+                             WindowFrame* w, FrameReport* report) {
+  // The front end's static points (Doppler residuals) and standing detection; a standing
+  // frame whose gyro was still also measures the gyro bias. Called before w joins the window:
+  // window_.back() is still the previous frame.
+  const NavState prev_state = window_.back()->state();
   for (int k : fe.static_points) w->static_points.push_back(fe.points[k]);
   w->standing = cfg_.zero_velocity.enabled && fe.standing;
   const ImuStats st = imuStats(interval);
@@ -252,62 +316,58 @@ FrameReport Estimator::process(const RadarFrame& f) {
   w->gyro_mean = st.gyro_mean;
   w->gyro_sigma = cfg_.imu.gyro_noise / std::sqrt(std::max(st.duration, 1e-3));
   counters_.standing_frames += w->standing;
-  report.points = static_cast<int>(fe.points.size());
-  report.static_points = static_cast<int>(w->static_points.size());
-  report.standing = w->standing;
+  report->points = static_cast<int>(fe.points.size());
+  report->static_points = static_cast<int>(w->static_points.size());
+  report->standing = w->standing;
+}
 
+void Estimator::addToWindow(std::unique_ptr<WindowFrame> w, const NavState& pred,
+                            FrameReport* report) {
+  window_.push_back(std::move(w));
+  const WindowFrame& f = *window_.back();
+  if (!cfg_.solver.use_points || f.static_points.empty()) return;
   // Probability-guided association of the static points (Sec. III-D).
-  if (cfg_.solver.use_points && !w->static_points.empty()) {
-    Points pts;
-    core::Covariances covs;
-    std::vector<Mat3> W;
-    for (const RadarPoint& rp : w->static_points) {
-      pts.push_back(rp.p);
-      covs.push_back(rp.cov);
-      W.push_back(whitening3(rp.cov, cfg_.uncertainty.min_variance));
-    }
-    auto pose_of = [this](long id) {
-      for (const auto& fr : window_)
-        if (fr->id == id) return radarPose(fr->state());
-      return Eigen::Isometry3d::Identity();  // not reached: tracks only hold window frames
-    };
-    window_.push_back(std::move(w));
-    const Tracks::Stats s = tracks_.associate(window_.back()->id, pts, covs, W, radarPose(pred),
-                                              pose_of, cfg_.association);
-    report.matched = s.matched;
-    report.created = s.created;
-    report.map_matched = s.map_matched;
-    tracks_.promote(cfg_.association.min_observations, pose_of);
-  } else {
-    window_.push_back(std::move(w));
+  Points pts;
+  core::Covariances covs;
+  std::vector<Mat3> W;
+  for (const RadarPoint& rp : f.static_points) {
+    pts.push_back(rp.p);
+    covs.push_back(rp.cov);
+    W.push_back(whitening3(rp.cov, cfg_.uncertainty.min_variance));
   }
+  auto pose_of = [this](long id) {
+    for (const auto& fr : window_)
+      if (fr->id == id) return radarPose(fr->state());
+    return Eigen::Isometry3d::Identity();  // not reached: tracks only hold window frames
+  };
+  const Tracks::Stats s =
+      tracks_.associate(f.id, pts, covs, W, radarPose(pred), pose_of, cfg_.association);
+  report->matched = s.matched;
+  report->created = s.created;
+  report->map_matched = s.map_matched;
+  tracks_.promote(cfg_.association.min_observations, pose_of);
+}
 
+bool Estimator::solveOrReset(const NavState& pred, FrameReport* report) {
+  // A failed or diverged solve puts every window state back as it was and restarts the
+  // window at the IMU prediction.
   std::vector<NavState> before;
   std::vector<double> bias_before;
   for (const auto& fr : window_) {
     before.push_back(fr->state());
     bias_before.push_back(fr->baro_bias[0]);
   }
-  const bool solved = solve(&report);
+  const bool solved = solve(report);
   const std::string problem = solved ? checkHealth(pred) : "the solver failed";
-  if (!problem.empty()) {
-    ++counters_.failed_solves;
-    for (std::size_t k = 0; k < window_.size(); ++k) {
-      toBlocks(before[k], &window_[k]->x);
-      window_[k]->baro_bias[0] = bias_before[k];
-    }
-    report.status = FrameStatus::kReset;
-    softReset(pred, 0.5, problem, &report);
-    return report;
+  if (problem.empty()) return true;
+  ++counters_.failed_solves;
+  for (std::size_t k = 0; k < window_.size(); ++k) {
+    toBlocks(before[k], &window_[k]->x);
+    window_[k]->baro_bias[0] = bias_before[k];
   }
-  rejectOutliers(&report);
-  report.state = window_.back()->state();
-  report.status = FrameStatus::kTracking;
-  report.landmarks = tracks_.numLandmarks();
-  report.map_points = tracks_.numMapPoints();
-  ++counters_.tracked;
-  slide();
-  return report;
+  report->status = FrameStatus::kReset;
+  softReset(pred, kSigmaVelocityAfterFailedSolve, problem, report);
+  return false;
 }
 
 bool Estimator::refuseImplausibleImu(const std::vector<ImuSample>& interval, bool standing,
@@ -332,11 +392,11 @@ void Estimator::bridgeImuGap(const RadarFrame& f, double gap, FrameReport* repor
   const FrontEndResult fe = processRadarFrame(f, cfg_, nullptr);
   NavState x = prev;
   x.t = f.t;
-  double sigma_v = 1.0;
+  double sigma_v = kSigmaVelocityBridgedConstant;
   std::string how = "constant velocity (no Doppler fit)";
   if (fe.doppler_fit) {
     x.v = prev.q * (cfg_.extrinsics.R * fe.v_radar);
-    sigma_v = 0.2;
+    sigma_v = kSigmaVelocityBridgedDoppler;
     how = "the Doppler velocity";
     ++counters_.gap_bridged;
   }
@@ -369,8 +429,9 @@ void Estimator::softReset(const NavState& s, double sigma_velocity, const std::s
   window_.push_back(std::move(last));
   ++counters_.resets;
   Vec15 sigma;
-  sigma << Vec3::Constant(1e-3), 0.02, 0.02, 1e-3, Vec3::Constant(sigma_velocity),
-      Vec3::Constant(cfg_.init.sigma_acc_bias), Vec3::Constant(cfg_.init.sigma_gyro_bias);
+  sigma << Vec3::Constant(kResetSigmaPosition), kResetSigmaRollPitch, kResetSigmaRollPitch,
+      kResetSigmaYaw, Vec3::Constant(sigma_velocity), Vec3::Constant(cfg_.init.sigma_acc_bias),
+      Vec3::Constant(cfg_.init.sigma_gyro_bias);
   installStatePrior(s, sigma);
   report->state = s;
   report->message = why;

@@ -11,19 +11,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/radar/motion_compensation.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {
-
-namespace {
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
-}
-}  // namespace
 
 CloudStreamer::CloudStreamer(ros::NodeHandle& nh, const core::Points& world,
                              const StreamOptions& options)
@@ -182,11 +174,11 @@ StreamSummary VerdictMonitor::summary() {
     if (m.status == AlignmentQuality::VERDICT) ++loops.back().verdicts;
   }
   s.verdict_rate = s.seconds > 0.0 ? s.verdicts / s.seconds : 0.0;
-  s.latency_median = quantile(latency, 0.5);
-  s.latency_p95 = quantile(latency, 0.95);
+  s.latency_median = core::quantile(latency, 0.5);
+  s.latency_p95 = core::quantile(latency, 0.95);
   s.latency_max = latency.empty() ? 0.0 : *std::max_element(latency.begin(), latency.end());
-  s.age_median = quantile(age, 0.5);
-  s.age_p95 = quantile(age, 0.95);
+  s.age_median = core::quantile(age, 0.5);
+  s.age_p95 = core::quantile(age, 0.95);
   // The first and the last loop may be cut by the measuring window: only those between.
   for (std::size_t k = 1; k + 1 < loops.size(); ++k) {
     ++s.loops;

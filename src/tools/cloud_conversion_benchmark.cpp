@@ -19,12 +19,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/statistics.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
 using namespace coral_introspection;
@@ -73,24 +74,21 @@ __attribute__((noinline)) std::size_t readWithPcl(const sensor_msgs::PointCloud2
   return pts->size();
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
+constexpr const char* kUsage = "usage: cloud_conversion_benchmark [--points N] [--repeats N]";
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::size_t n = 120000;
-  int repeats = 200;
-  for (int a = 1; a + 1 < argc; a += 2) {
-    if (std::strcmp(argv[a], "--points") == 0) n = std::strtoul(argv[a + 1], nullptr, 10);
-    if (std::strcmp(argv[a], "--repeats") == 0) repeats = std::atoi(argv[a + 1]);
-  }
-  if (n == 0 || repeats < 1) {
-    std::fprintf(stderr, "usage: cloud_conversion_benchmark [--points N] [--repeats N]\n");
-    return 2;
-  }
+  core::ToolArgs args;
+  if (const auto exit = core::readCommandLine("cloud_conversion_benchmark", kUsage, argc, argv,
+                                              {"--points", "--repeats"}, {}, &args))
+    return *exit;
+  std::string err;
+  int points = 0, repeats = 0;
+  if (!core::positiveInt(args, "--points", 120000, &points, &err) ||
+      !core::positiveInt(args, "--repeats", 200, &repeats, &err))
+    return core::toolError("cloud_conversion_benchmark", err, kUsage);
+  const std::size_t n = static_cast<std::size_t>(points);
   const sensor_msgs::PointCloud2 cloud = makeCloud(n);
   core::Points a, b;
   std::vector<double> t_hand, t_pcl;
@@ -125,7 +123,8 @@ int main(int argc, char** argv) {
   const core::Vec3 want(1.0, 2.0, 3.0);
   const bool hand64 = a.size() == 1 && a[0] == want, pcl64 = b.size() == 1 && b[0] == want;
 
-  const double mh = median(t_hand), mp = median(t_pcl);
+  // The upper middle value of the even repeat counts, as this benchmark always reported.
+  const double mh = core::quantile(t_hand, 0.5), mp = core::quantile(t_pcl, 0.5);
   std::printf("%zu-point XYZI cloud (%zu finite), %d repeats, median wall time:\n", n, finite,
               repeats);
   std::printf("  cloudToPoints (hand-written)        %8.3f ms\n", mh);

@@ -24,7 +24,9 @@
 
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
@@ -157,42 +159,23 @@ int main(int argc, char** argv) {
   // kernel time per pair on a 64-beam pair). Large blocks come from the reused heap.
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
-  std::string config, classifier, path_a, path_b, transform;
+  core::ToolArgs args;
+  if (const auto exit = core::readCommandLine(
+          "coral_check", kUsage, argc, argv,
+          {"--config", "--classifier", "--a", "--b", "--transform_file", "--repeat"},
+          {"--loop_closure"}, &args))
+    return *exit;
+  std::string usage_error;
   int repeat = 1;
-  bool loop_closure = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "-h" || arg == "--help") {
-      std::printf("%s\n", kUsage);
-      return 0;
-    }
-    if (arg == "--loop_closure") {
-      loop_closure = true;
-      continue;
-    }
-    if (i + 1 >= argc) return fail("missing value after " + arg + "\n" + kUsage);
-    const std::string val = argv[++i];
-    if (arg == "--config")
-      config = val;
-    else if (arg == "--classifier")
-      classifier = val;
-    else if (arg == "--a")
-      path_a = val;
-    else if (arg == "--b")
-      path_b = val;
-    else if (arg == "--transform_file")
-      transform = val;
-    else if (arg == "--repeat") {
-      char* end = nullptr;
-      repeat = static_cast<int>(std::strtol(val.c_str(), &end, 10));
-      if (*end != '\0' || repeat < 1 || repeat > 100000)
-        return fail("--repeat must be an integer in [1, 100000] (got '" + val + "')");
-    } else {
-      return fail("unknown argument " + arg + "\n" + kUsage);
-    }
-  }
+  if (!core::intOption(args, "--repeat", 1, 1, 100000, &repeat, &usage_error))
+    return core::toolError("coral_check", usage_error, kUsage);
+  const std::string config = args.get("--config"), classifier = args.get("--classifier"),
+                    path_a = args.get("--a"), path_b = args.get("--b"),
+                    transform = args.get("--transform_file");
+  const bool loop_closure = args.flag("--loop_closure");
   if (config.empty() || path_a.empty() || path_b.empty() || transform.empty())
-    return fail(std::string("--config, --a, --b and --transform_file are required\n") + kUsage);
+    return core::toolError("coral_check", "--config, --a, --b and --transform_file are required",
+                           kUsage);
 
   std::string err;
   XmlRpc::XmlRpcValue tree, clf_tree;
@@ -220,9 +203,7 @@ int main(int argc, char** argv) {
     if (!judge(a, b, T_a_b, cfg, &out, &err)) return fail(err);
     seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  std::sort(seconds.begin(), seconds.end());
-  const std::size_t n = seconds.size();
-  const double median = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
+  const double median = core::median(std::move(seconds));
   const core::CoralResult& r = out.verdict.coral;
   char fs[32] = "null";  // JSON has no NaN: null when the free space was not measured
   if (out.verdict.free_space.valid)

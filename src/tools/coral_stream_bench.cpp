@@ -10,9 +10,14 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/ros_eval/stream_bench.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
@@ -28,85 +33,59 @@ struct Args {
   bool monitor = false;
 };
 
-void usage(const char* argv0) {
-  std::printf(
-      "usage: %s [--cloud FILE] [options]\n"
-      "  --cloud FILE        lidar frame (.bin KITTI/VoD, .pcd, .csv) streamed from a moving "
-      "sensor\n"
-      "  --monitor           publish nothing: measure a stream fed by someone else (soak)\n"
-      "  --rate HZ           clouds per second (10)\n"
-      "  --duration S        measuring time (60)   --warmup S  not measured (3)\n"
-      "  --report S          interim line every S seconds (10)\n"
-      "  --settle S          wait for the last verdicts after the stream (2)\n"
-      "  --stride K          keep every K-th point of the frame (1)\n"
-      "  --noise M           Gaussian noise per coordinate [m] (0.01)\n"
-      "  --speed M/S (5)  --yaw-rate RAD/S (0.1)  sensor motion\n"
-      "  --topic T (scan)  --frame F (velodyne)  --fixed-frame F (odom)\n"
-      "  --alignment T       verdict topic (alignment)\n"
-      "  --node NAME         nodelet name in /diagnostics (coral)\n"
-      "  --pid-of NODE       ROS node whose memory is reported (/coral_manager)\n",
-      argv0);
-}
+constexpr const char* kUsage =
+    "usage: coral_stream_bench [--cloud FILE] [options]\n"
+    "  --cloud FILE        lidar frame (.bin KITTI/VoD, .pcd, .csv) streamed from a moving "
+    "sensor\n"
+    "  --monitor           publish nothing: measure a stream fed by someone else (soak)\n"
+    "  --rate HZ           clouds per second (10)\n"
+    "  --duration S        measuring time (60)   --warmup S  not measured (3)\n"
+    "  --report S          interim line every S seconds (10)\n"
+    "  --settle S          wait for the last verdicts after the stream (2)\n"
+    "  --stride K          keep every K-th point of the frame (1)\n"
+    "  --noise M           Gaussian noise per coordinate [m] (0.01)\n"
+    "  --speed M/S (5)  --yaw-rate RAD/S (0.1)  sensor motion\n"
+    "  --topic T (scan)  --frame F (velodyne)  --fixed-frame F (odom)\n"
+    "  --alignment T       verdict topic (alignment)\n"
+    "  --node NAME         nodelet name in /diagnostics (coral)\n"
+    "  --pid-of NODE       ROS node whose memory is reported (/coral_manager)";
 
-bool parse(int argc, char** argv, Args* a) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    const bool v = i + 1 < argc;
-    auto num = [&](double* out) {
-      *out = std::atof(argv[++i]);
-      return true;
-    };
-    if (k == "-h" || k == "--help") {
-      usage(argv[0]);
-      std::exit(0);
-    } else if (k == "--monitor") {
-      a->monitor = true;
-    } else if (k == "--cloud" && v) {
-      a->cloud = argv[++i];
-    } else if (k == "--rate" && v) {
-      num(&a->stream.rate);
-    } else if (k == "--duration" && v) {
-      num(&a->duration);
-    } else if (k == "--warmup" && v) {
-      num(&a->warmup);
-    } else if (k == "--report" && v) {
-      num(&a->report);
-    } else if (k == "--settle" && v) {
-      num(&a->settle);
-    } else if (k == "--stride" && v) {
-      a->stream.stride = std::atoi(argv[++i]);
-    } else if (k == "--noise" && v) {
-      num(&a->stream.noise);
-    } else if (k == "--speed" && v) {
-      num(&a->stream.speed);
-    } else if (k == "--yaw-rate" && v) {
-      num(&a->stream.yaw_rate);
-    } else if (k == "--topic" && v) {
-      a->stream.topic = argv[++i];
-    } else if (k == "--frame" && v) {
-      a->stream.frame = argv[++i];
-    } else if (k == "--fixed-frame" && v) {
-      a->stream.fixed_frame = argv[++i];
-    } else if (k == "--alignment" && v) {
-      a->alignment = argv[++i];
-    } else if (k == "--node" && v) {
-      a->node = argv[++i];
-    } else if (k == "--pid-of" && v) {
-      a->pid_of = argv[++i];
-    } else {
-      std::fprintf(stderr, "unknown or incomplete argument '%s' (try --help)\n", k.c_str());
-      return false;
-    }
-  }
-  if (!a->monitor && a->cloud.empty()) {
-    std::fprintf(stderr, "--cloud FILE or --monitor is required (try --help)\n");
-    return false;
-  }
-  if (!(a->stream.rate > 0.0 && a->duration > 0.0 && a->report > 0.0 && a->stream.stride >= 1)) {
-    std::fprintf(stderr, "--rate, --duration, --report must be > 0 and --stride >= 1\n");
-    return false;
-  }
-  return true;
+int fail(const std::string& msg) { return core::toolError("coral_stream_bench", msg, kUsage); }
+
+// The status main() returns now (0 after --help), or nothing to go on with *a.
+std::optional<int> parse(int argc, char** argv, Args* a) {
+  core::ToolArgs args;
+  std::string err;
+  const std::vector<std::string> strings = {"--cloud",     "--topic", "--frame", "--fixed-frame",
+                                            "--alignment", "--node",  "--pid-of"};
+  const std::vector<std::pair<std::string, double*>> numbers = {
+      {"--rate", &a->stream.rate},   {"--duration", &a->duration},
+      {"--warmup", &a->warmup},      {"--report", &a->report},
+      {"--settle", &a->settle},      {"--noise", &a->stream.noise},
+      {"--speed", &a->stream.speed}, {"--yaw-rate", &a->stream.yaw_rate}};
+  std::vector<std::string> options = strings;
+  options.push_back("--stride");
+  for (const auto& [name, value] : numbers) options.push_back(name);
+  if (const auto exit = core::readCommandLine("coral_stream_bench", kUsage, argc, argv, options,
+                                              {"--monitor"}, &args))
+    return *exit;
+  for (const auto& [name, value] : numbers)
+    if (!core::numberOption(args, name, *value, value, &err)) return fail(err);
+  if (!core::intOption(args, "--stride", a->stream.stride, std::numeric_limits<int>::min(),
+                       std::numeric_limits<int>::max(), &a->stream.stride, &err))
+    return fail(err);
+  a->monitor = args.flag("--monitor");
+  a->cloud = args.get("--cloud", a->cloud);
+  a->stream.topic = args.get("--topic", a->stream.topic);
+  a->stream.frame = args.get("--frame", a->stream.frame);
+  a->stream.fixed_frame = args.get("--fixed-frame", a->stream.fixed_frame);
+  a->alignment = args.get("--alignment", a->alignment);
+  a->node = args.get("--node", a->node);
+  a->pid_of = args.get("--pid-of", a->pid_of);
+  if (!a->monitor && a->cloud.empty()) return fail("--cloud FILE or --monitor is required");
+  if (!(a->stream.rate > 0.0 && a->duration > 0.0 && a->report > 0.0 && a->stream.stride >= 1))
+    return fail("--rate, --duration, --report must be > 0 and --stride >= 1");
+  return std::nullopt;
 }
 
 unsigned long counter(const std::map<std::string, std::string>& d, const std::string& key) {
@@ -119,7 +98,7 @@ unsigned long counter(const std::map<std::string, std::string>& d, const std::st
 int main(int argc, char** argv) {
   ros::init(argc, argv, "coral_stream_bench", ros::init_options::AnonymousName);
   Args a;
-  if (!parse(argc, argv, &a)) return 2;
+  if (const auto exit = parse(argc, argv, &a)) return *exit;
   ros::NodeHandle nh;
   ros::AsyncSpinner spinner(2);
   spinner.start();

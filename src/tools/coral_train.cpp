@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "coral_introspection/eval/oxford_training.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/eval/training_run.hpp"
 #include "coral_introspection/ros_eval/bag_training_reader.hpp"
 #include "coral_introspection/ros_eval/verdict_training.hpp"
@@ -192,74 +193,54 @@ int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::map<std::string, std::string> opt;
-  std::vector<std::string> datasets, sample_files;  // repeatable options
-  const std::vector<std::string> flags = {"--no_cfear", "--no_motion_compensation", "--no_csv",
-                                          "--help"};
+  const std::vector<std::string> flags = {"--no_cfear", "--no_motion_compensation", "--no_csv"};
+  const std::vector<std::string> options = {"--oxford",
+                                            "--bag",
+                                            "--scan_topic",
+                                            "--odom_topic",
+                                            "--fixed_frame",
+                                            "--test_oxford",
+                                            "--test_bag",
+                                            "--sensor",
+                                            "--max_scans",
+                                            "--spacing",
+                                            "--magnitudes",
+                                            "--rotations",
+                                            "--combined_yaw",
+                                            "--radius",
+                                            "--k",
+                                            "--z_min",
+                                            "--window",
+                                            "--min_range",
+                                            "--cfear_z_min",
+                                            "--cfear_resolution",
+                                            "--folds",
+                                            "--ridge",
+                                            "--threshold",
+                                            "--classifier_method",
+                                            "--classifier_group",
+                                            "--output",
+                                            "--preset",
+                                            "--dataset",
+                                            "--samples",
+                                            "--shard",
+                                            "--threads",
+                                            "--relative_margin"};
+  ToolArgs args;
+  if (const auto exit = readCommandLine("coral_train", kUsage, argc, argv, options, flags, &args))
+    return *exit;
+  // The command as given, for the report (arguments with a space quoted).
   std::string command = "rosrun coral_introspection coral_train";
   for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
+    const std::string a = argv[i];
     command += " " + (a.find(' ') == std::string::npos ? a : "\"" + a + "\"");
-    if (a.rfind("--", 0) != 0) {
-      std::cerr << "coral_train: unexpected argument '" << a << "'\n" << kUsage;
-      return 2;
-    }
-    if (const auto eq = a.find('='); eq != std::string::npos) {
-      opt[a.substr(0, eq)] = a.substr(eq + 1);
-    } else if (std::find(flags.begin(), flags.end(), a) != flags.end()) {
-      opt[a] = "1";
-    } else if (i + 1 < argc) {
-      opt[a] = argv[++i];
-      command += " " + (opt[a].find(' ') == std::string::npos ? opt[a] : "\"" + opt[a] + "\"");
-      if (a == "--dataset") datasets.push_back(opt[a]);
-      if (a == "--samples") sample_files.push_back(opt[a]);
-    } else {
-      std::cerr << "coral_train: " << a << " needs a value\n";
-      return 2;
-    }
   }
-  if (opt.count("--help")) {
-    std::cout << kUsage;
-    return 0;
-  }
-  const std::vector<std::string> known = {"--oxford",
-                                          "--bag",
-                                          "--scan_topic",
-                                          "--odom_topic",
-                                          "--fixed_frame",
-                                          "--test_oxford",
-                                          "--test_bag",
-                                          "--sensor",
-                                          "--max_scans",
-                                          "--spacing",
-                                          "--magnitudes",
-                                          "--rotations",
-                                          "--combined_yaw",
-                                          "--radius",
-                                          "--k",
-                                          "--z_min",
-                                          "--window",
-                                          "--min_range",
-                                          "--cfear_z_min",
-                                          "--cfear_resolution",
-                                          "--folds",
-                                          "--ridge",
-                                          "--threshold",
-                                          "--classifier_method",
-                                          "--classifier_group",
-                                          "--output",
-                                          "--preset",
-                                          "--dataset",
-                                          "--samples",
-                                          "--shard",
-                                          "--threads",
-                                          "--relative_margin"};
-  for (const auto& kv : opt)
-    if (std::find(known.begin(), known.end(), kv.first) == known.end() &&
-        std::find(flags.begin(), flags.end(), kv.first) == flags.end()) {
-      std::cerr << "coral_train: unknown option " << kv.first << "\n" << kUsage;
-      return 2;
-    }
+  // The code below reads options by name: the last value of each, "1" for a flag given.
+  std::map<std::string, std::string> opt;
+  for (const auto& [name, values] : args.values) opt[name] = values.back();
+  for (const std::string& f : args.flags) opt[f] = "1";
+  const std::vector<std::string> datasets = args.all("--dataset"),
+                                 sample_files = args.all("--samples");
   if (opt.count("--preset")) return verdictMode(opt, datasets, sample_files, command);
   if (opt.count("--oxford") == opt.count("--bag")) {
     std::cerr << "coral_train: give exactly one of --oxford DIR and --bag FILE\n" << kUsage;

@@ -16,34 +16,31 @@
 // CorAl flags (defaults: CoralConfig): --radius --dynamic --r_min --r_max --alpha_deg
 //   --epsilon --min_neighbours --voxel_leaf --max_queries --threads --seed; classifier:
 //   --beta0 --beta1 --beta2 --threshold. Built with -DCORAL_BASELINE it also compiles
-//   against the code before the lidar work (commit 5c79551), without the new flags.
+//   against the code before the lidar work (commit 5c79551), without the new flags; that
+//   commit predates coral/statistics and eval/tool_args, so add their two .hpp/.cpp pairs
+//   (standard library only) to that build.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "coral_introspection/coral/classifier.hpp"
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/perturbation.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 
 using namespace coral_introspection::core;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Options {
   std::string data = "../shared/data";
@@ -55,81 +52,62 @@ struct Options {
   ClassifierConfig clf;
 };
 
-bool parse(int argc, char** argv, Options* o) {
+constexpr const char* kUsage =
+    "usage: coral_benchmark_lidar [--data DIR] [--repeats N] [CorAl flags] [--timing] [--quality]\n"
+    "                             [--degenerate] [--seed_study N] [--write_pair DIR]\n"
+    "CorAl flags: --radius M --dynamic --r_min M --r_max M --alpha_deg DEG --epsilon E\n"
+    "             --min_neighbours N"
+#ifndef CORAL_BASELINE
+    " --voxel_leaf M --max_queries N --threads N --seed N"
+#endif
+    "\nclassifier: --beta0 B --beta1 B --beta2 B --threshold T";
+
+const std::vector<std::string> kFlags = {"--timing", "--quality", "--degenerate", "--dynamic"};
+
+std::vector<std::string> valueOptions() {
+  std::vector<std::string> options = {"--data",      "--write_pair",    "--repeats", "--seed_study",
+                                      "--radius",    "--r_min",         "--r_max",   "--alpha_deg",
+                                      "--epsilon",   "--beta0",         "--beta1",   "--beta2",
+                                      "--threshold", "--min_neighbours"};
+#ifndef CORAL_BASELINE
+  options.insert(options.end(), {"--voxel_leaf", "--max_queries", "--threads", "--seed"});
+#endif
+  return options;
+}
+
+// False with *error on a malformed number or settings the configs refuse.
+bool parse(const ToolArgs& args, Options* o, std::string* error) {
   if (const char* env = std::getenv("CORAL_DATA_DIR")) o->data = env;
   CoralConfig& c = o->coral;
   c.per_point = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto num = [&](double* v) {
-      if (i + 1 >= argc) return false;
-      *v = std::atof(argv[++i]);
-      return true;
-    };
-    auto inum = [&](int* v) {
-      if (i + 1 >= argc) return false;
-      *v = std::atoi(argv[++i]);
-      return true;
-    };
-    bool ok = true;
-    if (a == "--data" && i + 1 < argc)
-      o->data = argv[++i];
-    else if (a == "--write_pair" && i + 1 < argc)
-      o->write_pair = argv[++i];
-    else if (a == "--repeats")
-      ok = inum(&o->repeats);
-    else if (a == "--timing")
-      o->timing = true;
-    else if (a == "--quality")
-      o->quality = true;
-    else if (a == "--degenerate")
-      o->degenerate = true;
-    else if (a == "--seed_study")
-      ok = inum(&o->seed_study);
-    else if (a == "--radius")
-      ok = num(&c.radius);
-    else if (a == "--dynamic")
-      c.dynamic_radius = true;
-    else if (a == "--r_min")
-      ok = num(&c.r_min);
-    else if (a == "--r_max")
-      ok = num(&c.r_max);
-    else if (a == "--alpha_deg")
-      ok = num(&c.alpha_deg);
-    else if (a == "--epsilon")
-      ok = num(&c.epsilon);
-    else if (a == "--min_neighbours")
-      ok = inum(&c.min_neighbours);
+  o->data = args.get("--data", o->data);
+  o->write_pair = args.get("--write_pair");
+  o->timing = args.flag("--timing");
+  o->quality = args.flag("--quality");
+  o->degenerate = args.flag("--degenerate");
+  if (args.flag("--dynamic")) c.dynamic_radius = true;
+  // Values only have to be numbers here; their ranges are the configs' (validate() below).
+  auto number = [&](const char* name, double* v) { return numberOption(args, name, *v, v, error); };
+  auto integer = [&](const char* name, int* v) {
+    return intOption(args, name, *v, std::numeric_limits<int>::min(),
+                     std::numeric_limits<int>::max(), v, error);
+  };
+  if (!(integer("--repeats", &o->repeats) && integer("--seed_study", &o->seed_study) &&
+        number("--radius", &c.radius) && number("--r_min", &c.r_min) &&
+        number("--r_max", &c.r_max) && number("--alpha_deg", &c.alpha_deg) &&
+        number("--epsilon", &c.epsilon) && integer("--min_neighbours", &c.min_neighbours) &&
 #ifndef CORAL_BASELINE
-    else if (a == "--voxel_leaf")
-      ok = num(&c.voxel_leaf);
-    else if (a == "--max_queries")
-      ok = inum(&c.max_queries);
-    else if (a == "--threads")
-      ok = inum(&c.threads);
-    else if (a == "--seed")
-      ok = inum(&c.query_seed);
+        number("--voxel_leaf", &c.voxel_leaf) && integer("--max_queries", &c.max_queries) &&
+        integer("--threads", &c.threads) && integer("--seed", &c.query_seed) &&
 #endif
-    else if (a == "--beta0")
-      ok = num(&o->clf.beta0);
-    else if (a == "--beta1")
-      ok = num(&o->clf.beta1);
-    else if (a == "--beta2")
-      ok = num(&o->clf.beta2);
-    else if (a == "--threshold")
-      ok = num(&o->clf.threshold);
-    else {
-      std::fprintf(stderr, "unknown or incomplete argument '%s' (see the file header)\n",
-                   a.c_str());
-      return false;
-    }
-    if (!ok) return false;
-  }
+        number("--beta0", &o->clf.beta0) && number("--beta1", &o->clf.beta1) &&
+        number("--beta2", &o->clf.beta2) && number("--threshold", &o->clf.threshold)))
+    return false;
   if (!o->timing && !o->quality && !o->degenerate && o->seed_study == 0 && o->write_pair.empty())
     o->timing = o->quality = true;
   if (o->repeats < 1) o->repeats = 1;
   const std::string e = c.validate() + o->clf.validate();
-  if (!e.empty()) std::fprintf(stderr, "bad settings: %s\n", e.c_str());
+  if (!e.empty()) *error = "bad settings: " + e;
   return e.empty();
 }
 
@@ -369,8 +347,13 @@ bool runDegenerate(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ToolArgs args;
+  if (const auto exit = readCommandLine("coral_benchmark_lidar", kUsage, argc, argv, valueOptions(),
+                                        kFlags, &args))
+    return *exit;
   Options o;
-  if (!parse(argc, argv, &o)) return 2;
+  std::string err;
+  if (!parse(args, &o, &err)) return toolError("coral_benchmark_lidar", err, kUsage);
   printSettings(o.coral, o.clf);
   const std::string vod = o.data + "/view_of_delft_example/lidar/training/velodyne/";
   if (o.timing || o.seed_study > 0 || !o.write_pair.empty()) {

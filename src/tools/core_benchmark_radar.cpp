@@ -5,17 +5,17 @@
 // it under `valgrind --tool=callgrind` with --repeats 1 (see README "Radar front end").
 #include <sys/stat.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
 #include "coral_introspection/coral/coral.hpp"
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/radar/deskew.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
@@ -24,12 +24,6 @@ using namespace coral_introspection::core;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 double ms(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
@@ -38,24 +32,20 @@ std::string defaultFolder() {
     return std::string(env) + "/oxford_radar_tiny";
   return "../shared/data/oxford_radar_tiny";
 }
+constexpr const char* kUsage = "usage: coral_benchmark_radar [oxford_folder] [--repeats N]";
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string folder = defaultFolder();
-  int repeats = 20;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--repeats") && i + 1 < argc) {
-      repeats = std::atoi(argv[++i]);
-    } else if (!std::strcmp(argv[i], "-h") || !std::strcmp(argv[i], "--help")) {
-      std::printf("usage: %s [oxford_folder] [--repeats N]\n", argv[0]);
-      return 0;
-    } else {
-      folder = argv[i];
-    }
-  }
-  if (repeats < 1) repeats = 1;
-  OxfordDataset ds;
+  ToolArgs args;
+  if (const auto exit =
+          readCommandLine("coral_benchmark_radar", kUsage, argc, argv, {"--repeats"}, {}, &args, 1))
+    return *exit;
   std::string err;
+  int repeats = 0;
+  if (!positiveInt(args, "--repeats", 20, &repeats, &err))
+    return toolError("coral_benchmark_radar", err, kUsage);
+  const std::string folder = args.positional.empty() ? defaultFolder() : args.positional[0];
+  OxfordDataset ds;
   if (!ds.load(folder, &err)) {
     std::fprintf(stderr, "cannot load Oxford folder: %s\n", err.c_str());
     return 1;

@@ -11,6 +11,7 @@
 #include "coral_introspection/coral/coral_uncertainty.hpp"
 #include "coral_introspection/eval/oxford_dataset.hpp"
 #include "coral_introspection/eval/oxford_training.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
@@ -42,8 +43,17 @@ double pooledAuc(const std::vector<double>& q_gt, const std::vector<double>& q_o
 
 }  // namespace
 
+constexpr const char* kUsage =
+    "usage: coral_radar_uncertainty_eval [oxford_folder] (default "
+    "../shared/data/oxford_radar_tiny)";
+
 int main(int argc, char** argv) {
-  const std::string folder = argc > 1 ? argv[1] : "../shared/data/oxford_radar_tiny";
+  ToolArgs args;
+  if (const auto exit =
+          readCommandLine("coral_radar_uncertainty_eval", kUsage, argc, argv, {}, {}, &args, 1))
+    return *exit;
+  const std::string folder =
+      args.positional.empty() ? "../shared/data/oxford_radar_tiny" : args.positional[0];
   OxfordDataset ds;
   std::string err;
   if (!ds.load(folder, &err)) {

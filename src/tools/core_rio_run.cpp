@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "coral_introspection/eval/rio_run.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 
 using namespace coral_introspection;
@@ -40,39 +41,25 @@ double verticalApe(const std::vector<core::StampedPose>& est,
   return std::sqrt(sum / est.size());
 }
 
+constexpr const char* kUsage =
+    "usage: coral_rio_run --sequence FILE --config FILE.yaml [--set group/key=value]... "
+    "[--output TRAJ.tum] [--report FRAMES.csv] [--loop]";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string sequence, config, output, report;
-  std::vector<std::string> overrides;
-  bool loop = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
-    if (a == "--sequence")
-      sequence = next();
-    else if (a == "--config")
-      config = next();
-    else if (a == "--output")
-      output = next();
-    else if (a == "--report")
-      report = next();
-    else if (a == "--set")
-      overrides.push_back(next());
-    else if (a == "--loop")
-      loop = true;
-    else {
-      std::cerr
-          << "usage: coral_rio_run --sequence FILE --config FILE.yaml "
-             "[--set group/key=value]... [--output TRAJ.tum] [--report FRAMES.csv] [--loop]\n";
-      return 2;
-    }
-  }
-  if (sequence.empty() || config.empty()) {
-    // No config would mean default extrinsics, which no rig has (config_yaml.hpp).
-    std::cerr << "coral_rio_run: --sequence and --config are required\n";
-    return 2;
-  }
+  core::ToolArgs args;
+  if (const auto exit = core::readCommandLine(
+          "coral_rio_run", kUsage, argc, argv,
+          {"--sequence", "--config", "--output", "--report", "--set"}, {"--loop"}, &args))
+    return *exit;
+  const std::string sequence = args.get("--sequence"), config = args.get("--config"),
+                    output = args.get("--output"), report = args.get("--report");
+  const std::vector<std::string> overrides = args.all("--set");
+  const bool loop = args.flag("--loop");
+  // No config would mean default extrinsics, which no rig has (config_yaml.hpp).
+  if (sequence.empty() || config.empty())
+    return core::toolError("coral_rio_run", "--sequence and --config are required", kUsage);
   YAML::Node root;
   std::string err;
   try {

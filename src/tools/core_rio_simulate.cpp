@@ -5,57 +5,50 @@
 // (--reflectors overrides the scene's reflector count, --noise-scale multiplies the polar
 // point noise, --barometer adds barometer samples: RioSimConfig's baro_* settings.)
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include "coral_introspection/eval/rio_simulation.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
 
 using namespace coral_introspection;
 
+namespace {
+constexpr const char* kUsage =
+    "usage: coral_rio_simulate --trajectory handheld|vehicle [--seed N] [--reflectors N] "
+    "[--noise-scale K] [--barometer] --output FILE.seq";
+}  // namespace
+
 int main(int argc, char** argv) {
-  std::string trajectory = "handheld", output;
-  unsigned seed = 1;
-  int reflectors = -1;
+  core::ToolArgs args;
+  if (const auto exit = core::readCommandLine(
+          "coral_rio_simulate", kUsage, argc, argv,
+          {"--trajectory", "--seed", "--reflectors", "--noise-scale", "--output"}, {"--barometer"},
+          &args))
+    return *exit;
+  std::string err;
+  int seed = 1, reflectors = -1;  // reflectors <= 0: the trajectory's own number
   double noise_scale = 1.0;
-  bool barometer = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const std::string v = i + 1 < argc ? argv[i + 1] : "";
-    if (a == "--trajectory") {
-      trajectory = v;
-      ++i;
-    } else if (a == "--seed") {
-      seed = static_cast<unsigned>(std::stoul(v));
-      ++i;
-    } else if (a == "--reflectors") {
-      reflectors = std::stoi(v);
-      ++i;
-    } else if (a == "--noise-scale") {
-      noise_scale = std::stod(v);
-      ++i;
-    } else if (a == "--barometer") {
-      barometer = true;
-    } else if (a == "--output") {
-      output = v;
-      ++i;
-    } else {
-      output.clear();
-      break;
-    }
-  }
-  if (output.empty() || (trajectory != "handheld" && trajectory != "vehicle")) {
-    std::cerr << "usage: coral_rio_simulate --trajectory handheld|vehicle [--seed N] "
-                 "[--reflectors N] [--noise-scale K] [--barometer] --output FILE.seq\n";
-    return 2;
-  }
-  core::RioSimConfig cfg = trajectory == "handheld" ? core::RioSimConfig::handheld(seed)
-                                                    : core::RioSimConfig::vehicle(seed);
+  if (!core::intOption(args, "--seed", seed, 0, std::numeric_limits<int>::max(), &seed, &err) ||
+      !core::intOption(args, "--reflectors", reflectors, std::numeric_limits<int>::min(),
+                       std::numeric_limits<int>::max(), &reflectors, &err) ||
+      !core::numberOption(args, "--noise-scale", noise_scale, &noise_scale, &err))
+    return core::toolError("coral_rio_simulate", err, kUsage);
+  const std::string trajectory = args.get("--trajectory", "handheld"),
+                    output = args.get("--output");
+  const bool barometer = args.flag("--barometer");
+  if (output.empty() || (trajectory != "handheld" && trajectory != "vehicle"))
+    return core::toolError("coral_rio_simulate",
+                           "--output is required and --trajectory handheld or vehicle", kUsage);
+  core::RioSimConfig cfg = trajectory == "handheld"
+                               ? core::RioSimConfig::handheld(static_cast<unsigned>(seed))
+                               : core::RioSimConfig::vehicle(static_cast<unsigned>(seed));
   if (reflectors > 0) cfg.num_reflectors = reflectors;
   cfg.barometer = barometer;
   cfg.point_noise.sigma_range *= noise_scale;
   cfg.point_noise.sigma_azimuth *= noise_scale;
   cfg.point_noise.sigma_elevation *= noise_scale;
   const core::RioSequence seq = core::simulateRio(cfg);
-  std::string err;
   if (!core::writeRioSequence(output, seq, &err)) {
     std::cerr << "coral_rio_simulate: " << err << "\n";
     return 1;

@@ -5,48 +5,36 @@
 #include <ros/time.h>
 
 #include <cstdio>
-#include <cstring>
 #include <string>
 
+#include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
+namespace core = coral_introspection::core;
+
+namespace {
+constexpr const char* kUsage =
+    "usage: oxford_to_bag <oxford_folder> <output.bag> [--topic T] [--tf-topic T]\n"
+    "          [--fixed-frame F] [--radar-frame F]\n"
+    "defaults: --topic /radar/polar --tf-topic /tf --fixed-frame odom --radar-frame radar";
+}  // namespace
 
 int main(int argc, char** argv) {
   ra::OxfordBagOptions opt;
-  std::string folder, bag;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "-h" || a == "--help") {
-      std::printf(
-          "usage: %s <oxford_folder> <output.bag> [--topic T] [--tf-topic T]\n"
-          "          [--fixed-frame F] [--radar-frame F]\n"
-          "defaults: --topic /radar/polar --tf-topic /tf --fixed-frame odom --radar-frame radar\n",
-          argv[0]);
-      return 0;
-    } else if (a == "--topic" && has_value) {
-      opt.image_topic = argv[++i];
-    } else if (a == "--tf-topic" && has_value) {
-      opt.tf_topic = argv[++i];
-    } else if (a == "--fixed-frame" && has_value) {
-      opt.fixed_frame = argv[++i];
-    } else if (a == "--radar-frame" && has_value) {
-      opt.radar_frame = argv[++i];
-    } else if (!a.empty() && a[0] != '-' && folder.empty()) {
-      folder = a;
-    } else if (!a.empty() && a[0] != '-' && bag.empty()) {
-      bag = a;
-    } else {
-      std::fprintf(stderr, "unknown or incomplete argument '%s' (try --help)\n", a.c_str());
-      return 2;
-    }
-  }
-  if (folder.empty() || bag.empty()) {
-    std::fprintf(stderr, "usage: %s <oxford_folder> <output.bag> [options] (try --help)\n",
-                 argv[0]);
-    return 2;
-  }
+  core::ToolArgs args;
+  if (const auto exit = core::readCommandLine(
+          "oxford_to_bag", kUsage, argc, argv,
+          {"--topic", "--tf-topic", "--fixed-frame", "--radar-frame"}, {}, &args, 2))
+    return *exit;
+  if (args.positional.size() != 2)
+    return core::toolError("oxford_to_bag", "<oxford_folder> and <output.bag> are required",
+                           kUsage);
+  const std::string &folder = args.positional[0], &bag = args.positional[1];
+  opt.image_topic = args.get("--topic", opt.image_topic);
+  opt.tf_topic = args.get("--tf-topic", opt.tf_topic);
+  opt.fixed_frame = args.get("--fixed-frame", opt.fixed_frame);
+  opt.radar_frame = args.get("--radar-frame", opt.radar_frame);
   ros::Time::init();
   ra::OxfordBagSummary sum;
   std::string err;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/pair_datasets.hpp"
 #include "support/test_data.hpp"
 
@@ -25,8 +26,7 @@ double medianNN(const Points& a, const Points& b, const Eigen::Isometry3d& T_a_b
     for (const Vec3& p : a) best = std::min(best, (p - q).squaredNorm());
     d.push_back(std::sqrt(best));
   }
-  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-  return d[d.size() / 2];
+  return quantile(std::move(d), 0.5);
 }
 
 const char* kLog =

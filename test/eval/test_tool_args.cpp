@@ -38,3 +38,60 @@ TEST(ToolArgs, UnknownMissingAndBadNumbersAreRefused) {
   EXPECT_TRUE(positiveInt(a, "--stride", 4, &n, &err));
   EXPECT_EQ(n, 4);
 }
+
+TEST(ToolArgs, InlineValuesAndPositionalArguments) {
+  const char* argv[] = {"tool", "in_dir", "--set=a/b=1", "--loop", "out.bag", "--set", "c=2"};
+  ToolArgs a;
+  std::string err;
+  ASSERT_TRUE(parseToolArgs(7, argv, {"--set"}, {"--loop"}, &a, &err, 2)) << err;
+  EXPECT_EQ(a.all("--set"), (std::vector<std::string>{"a/b=1", "c=2"}));
+  EXPECT_TRUE(a.all("--absent").empty());
+  EXPECT_EQ(a.positional, (std::vector<std::string>{"in_dir", "out.bag"}));
+  EXPECT_TRUE(a.flag("--loop"));
+  // One positional argument too many, none allowed, a value given to a flag.
+  EXPECT_FALSE(parseToolArgs(7, argv, {"--set"}, {"--loop"}, &a, &err, 1));
+  EXPECT_NE(err.find("out.bag"), std::string::npos) << err;
+  EXPECT_FALSE(parseToolArgs(7, argv, {"--set"}, {"--loop"}, &a, &err));
+  EXPECT_NE(err.find("in_dir"), std::string::npos) << err;
+  const char* flag_value[] = {"tool", "--loop=1"};
+  EXPECT_FALSE(parseToolArgs(2, flag_value, {}, {"--loop"}, &a, &err));
+  EXPECT_NE(err.find("takes no value"), std::string::npos) << err;
+  // A value may start with '-' (a negative number).
+  const char* negative[] = {"tool", "--error", "-0.3"};
+  ASSERT_TRUE(parseToolArgs(3, negative, {"--error"}, {}, &a, &err)) << err;
+  EXPECT_EQ(a.get("--error"), "-0.3");
+}
+
+TEST(ToolArgs, TypedValuesRefuseMalformedNumbers) {
+  const char* argv[] = {"tool", "--x", "-2.5e-1", "--n", "7", "--bad", "0.3m", "--big", "1e999"};
+  ToolArgs a;
+  std::string err;
+  ASSERT_TRUE(parseToolArgs(9, argv, {"--x", "--n", "--bad", "--big", "--absent"}, {}, &a, &err));
+  double x = 0.0;
+  EXPECT_TRUE(numberOption(a, "--x", 1.0, &x, &err));
+  EXPECT_EQ(x, -0.25);
+  EXPECT_TRUE(numberOption(a, "--absent", 1.5, &x, &err));
+  EXPECT_EQ(x, 1.5);
+  EXPECT_FALSE(numberOption(a, "--bad", 1.0, &x, &err));
+  EXPECT_EQ(err, "--bad must be a number (got '0.3m')");
+  EXPECT_FALSE(numberOption(a, "--big", 1.0, &x, &err));
+  int n = 0;
+  EXPECT_TRUE(intOption(a, "--n", 0, 0, 10, &n, &err));
+  EXPECT_EQ(n, 7);
+  EXPECT_FALSE(intOption(a, "--n", 0, 0, 5, &n, &err));
+  EXPECT_EQ(err, "--n must be an integer in [0, 5] (got '7')");
+  EXPECT_FALSE(intOption(a, "--x", 0, -10, 10, &n, &err));    // not an integer
+  EXPECT_TRUE(intOption(a, "--absent", -1, 0, 5, &n, &err));  // the fallback is not checked
+  EXPECT_EQ(n, -1);
+}
+
+TEST(ToolArgs, ReadCommandLineGivesTheExitStatus) {
+  ToolArgs a;
+  const char* good[] = {"tool", "--config", "a.yaml"};
+  EXPECT_FALSE(readCommandLine("tool", "usage: tool", 3, good, {"--config"}, {}, &a).has_value());
+  EXPECT_EQ(a.get("--config"), "a.yaml");
+  const char* help[] = {"tool", "--help"};
+  EXPECT_EQ(readCommandLine("tool", "usage: tool", 2, help, {"--config"}, {}, &a), 0);
+  const char* typo[] = {"tool", "--confg", "a.yaml"};
+  EXPECT_EQ(readCommandLine("tool", "usage: tool", 3, typo, {"--config"}, {}, &a), 2);
+}

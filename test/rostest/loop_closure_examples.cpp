@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "rostest_main.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -98,11 +99,5 @@ TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "loop_closure_examples_test");
-  ros::NodeHandle nh;
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"loop_closure_examples_test", 0};

@@ -1,5 +1,6 @@
 // rostest: bad inputs never stop CoralNodelet (see nodelet_bad_inputs.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
@@ -246,12 +247,5 @@ TEST_F(BadInputs, InputTopicOfAnotherTypeIsRefused) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_bad_inputs_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_bad_inputs_test", 2};

@@ -1,5 +1,6 @@
 // rostest: CoralNodelet's Doppler velocity-consistency output (see nodelet_doppler.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -196,12 +197,5 @@ TEST_F(Doppler, ConsistentTfAcceptedSpeedErrorFlaggedMissingFieldSkipped) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_doppler_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_doppler_test", 2};

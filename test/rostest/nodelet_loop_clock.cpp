@@ -1,5 +1,6 @@
 // rostest: a looping sequence under simulated time (see nodelet_loop_clock.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <rosgraph_msgs/Clock.h>
 
@@ -85,12 +86,5 @@ TEST(LoopWithClock, SecondLoopIsJudgedFromItsFirstPair) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_loop_clock_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_loop_clock_test", 2};

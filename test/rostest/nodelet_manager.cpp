@@ -1,6 +1,7 @@
 // rostest: CoralNodelet in a nodelet manager next to another nodelet (a second instance),
 // loaded and unloaded through the manager's services (see nodelet_manager.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <nodelet/NodeletList.h>
 #include <nodelet/NodeletLoad.h>
@@ -102,12 +103,5 @@ TEST(Manager, InvalidParametersFailTheLoad) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_manager_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_manager_test", 2};

@@ -4,6 +4,7 @@
 // filtered clouds are those of the raw ones: aligned with correct TF, the two pairs around a
 // 0.5 m TF error flagged.
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -120,12 +121,5 @@ TEST(PclFilters, CropBoxVoxelGridCoralNodeletInOneManager) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_pcl_filters_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_pcl_filters_test", 2};

@@ -30,6 +30,7 @@
 #include "coral_introspection/ros/params.hpp"
 #include "coral_introspection/ros_eval/yaml_params.hpp"
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 #include "support/test_data.hpp"
 
 namespace core = coral_introspection::core;
@@ -207,8 +208,5 @@ TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_self_calibration_test");
-  return RUN_ALL_TESTS();
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_self_calibration_test", 0};

@@ -1,5 +1,6 @@
 // rostest: the check_alignment service (see nodelet_service.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include "coral_introspection/CheckAlignment.h"
 
@@ -169,12 +170,5 @@ TEST(CheckAlignment, TrainedClassifierFileIsUsedAsIs) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_service_test");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_service_test", 1};

@@ -1,6 +1,7 @@
 // rostest: CoralNodelet under overload, with a slow pair, a looping sequence and scans that
 // cannot be judged (see nodelet_streaming.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -283,12 +284,5 @@ TEST_F(Streaming, IntegerPointFieldsAreRefused) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_streaming_test");
-  ros::AsyncSpinner spinner(3);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_streaming_test", 3};

@@ -1,5 +1,6 @@
 // rostest: CoralNodelet verdicts on synthetic sequences (see nodelet_synthetic.test).
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 
 #include <sensor_msgs/point_cloud2_iterator.h>
 
@@ -152,12 +153,5 @@ TEST_F(Synthetic, PolarImageCorrectTfAlignedAndTfErrorFlagged) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "nodelet_synthetic_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int r = RUN_ALL_TESTS();
-  ros::shutdown();
-  return r;
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"nodelet_synthetic_test", 2};

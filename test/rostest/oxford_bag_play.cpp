@@ -14,6 +14,7 @@
 #include "coral_introspection/eval/oxford_dataset.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
+#include "rostest_main.hpp"
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
@@ -76,8 +77,5 @@ TEST(OxfordBagPlay, RosbagPlayDeliversImagesAndTf) {
   }
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "oxford_bag_play_test");
-  return RUN_ALL_TESTS();
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"oxford_bag_play_test", 0};

@@ -24,6 +24,7 @@
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 #include "coral_rostest_utils.hpp"
+#include "rostest_main.hpp"
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
@@ -185,9 +186,5 @@ TEST(OxfordReplay, GroundTruthAlignedAndStepErrorsFlagged) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "oxford_replay_test");
-  ros::NodeHandle nh;  // keeps the node alive across the test
-  return RUN_ALL_TESTS();
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"oxford_replay_test", 0};

@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <fstream>
 
+#include "rostest_main.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -444,9 +445,5 @@ TEST(RioNodelet, BarometerIsSubscribedAndUsed) {
   EXPECT_NEAR(h.c.odom.back().pose.pose.position.z, 0.0, 0.05);  // standing: no height change
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rio_nodelet_test");
-  ros::NodeHandle nh;
-  return RUN_ALL_TESTS();
-}
+// main(): test/rostest/rostest_main.cpp.
+const coral_test::RostestNode coral_test::kRostestNode{"rio_nodelet_test", 0};

@@ -93,6 +93,15 @@ class Estimator {
 
   std::vector<FrameReport> drain();
   FrameReport process(const RadarFrame& f);
+  // The phases of process() (estimator.cpp).
+  void initialise(const RadarFrame& f, double t_prev, bool have_imu,
+                  const std::vector<ImuSample>& interval, FrameReport* report);
+  std::unique_ptr<WindowFrame> predictFrame(const RadarFrame& f,
+                                            const std::vector<ImuSample>& interval, NavState* pred);
+  void takeFrontEnd(const FrontEndResult& fe, const std::vector<ImuSample>& interval,
+                    WindowFrame* w, FrameReport* report);
+  void addToWindow(std::unique_ptr<WindowFrame> w, const NavState& pred, FrameReport* report);
+  bool solveOrReset(const NavState& pred, FrameReport* report);  // false: reset (reported)
   bool refuseImplausibleImu(const std::vector<ImuSample>& interval, bool standing,
                             FrameReport* report);
   void bridgeImuGap(const RadarFrame& f, double gap, FrameReport* report);
