@@ -3,6 +3,7 @@
 # Dependencies point one way only (DESIGN.md):
 #   online -> radar -> coral        eval -> radar -> coral        (eval: tools and tests only)
 #   rio -> radar -> coral           eval -> rio
+#   rio -> config                   (config: the parameter tree; ros links it too)
 find_package(Eigen3 REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 # Ceres (Debian's libceres-dev). Its CMake target points at the static, non-PIC libceres.a;
@@ -11,7 +12,7 @@ find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 find_package(Ceres REQUIRED)
 find_library(CORAL_CERES_LIBRARY NAMES libceres.so ceres REQUIRED)
 find_library(CORAL_GLOG_LIBRARY NAMES glog REQUIRED)
-find_package(yaml-cpp REQUIRED)  # RioConfig from YAML (rio/config_yaml.hpp)
+find_package(yaml-cpp REQUIRED)  # parameter trees from YAML files (config/yaml_tree.hpp)
 find_package(PCL REQUIRED COMPONENTS common io registration)
 find_package(Threads REQUIRED)  # CoralConfig::threads (std::thread)
 
@@ -29,6 +30,10 @@ function(coral_add_library name dir)
   target_compile_options(${name} PRIVATE ${CORAL_WARNINGS})
 endfunction()
 
+# The parameter tree every config loader reads (CoralNodelet, RioNodelet, presets, rio YAML):
+# depends on nothing of ours, so any library can use it.
+coral_add_library(coral_introspection_config config DEPS yaml-cpp)
+target_include_directories(coral_introspection_config SYSTEM PUBLIC ${YAML_CPP_INCLUDE_DIR})
 coral_add_library(coral_introspection_coral coral DEPS Threads::Threads)
 # The moment kernel's vector and scalar paths must round |p - q|^2 alike (no fused
 # multiply-add where the code does not ask for one): both then count the same neighbours.
@@ -40,18 +45,17 @@ coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral
 target_include_directories(coral_introspection_radar SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
 coral_add_library(coral_introspection_online online DEPS coral_introspection_radar)
 find_package(BZip2 REQUIRED)  # CARMEN .clf.bz2 logs (eval/carmen_log)
-coral_add_library(coral_introspection_rio rio DEPS coral_introspection_radar ${CORAL_CERES_LIBRARY}
-                  ${CORAL_GLOG_LIBRARY} yaml-cpp)
-target_include_directories(coral_introspection_rio SYSTEM PUBLIC ${CERES_INCLUDE_DIRS}
-                           ${YAML_CPP_INCLUDE_DIR})
+coral_add_library(coral_introspection_rio rio DEPS coral_introspection_radar
+                  coral_introspection_config ${CORAL_CERES_LIBRARY} ${CORAL_GLOG_LIBRARY})
+target_include_directories(coral_introspection_rio SYSTEM PUBLIC ${CERES_INCLUDE_DIRS})
 # Threads: coral_train computes samples on every core.
 coral_add_library(coral_introspection_eval eval DEPS coral_introspection_rio ${PCL_LIBRARIES}
                   BZip2::BZip2 Threads::Threads)
 # PCL's PCD reader for eval/cloud_io (tools and tests only; the nodelet does not link it).
 target_include_directories(coral_introspection_eval SYSTEM PUBLIC ${PCL_INCLUDE_DIRS})
 
-set(CORAL_CORE_LIBRARIES coral_introspection_coral coral_introspection_radar
-    coral_introspection_online coral_introspection_rio)
+set(CORAL_CORE_LIBRARIES coral_introspection_config coral_introspection_coral
+    coral_introspection_radar coral_introspection_online coral_introspection_rio)
 
 # Tests find ../shared/data next to the real (symlink-resolved) source tree, or
 # $CORAL_DATA_DIR; the support header skips with a message when neither exists.
@@ -62,6 +66,6 @@ set(CORAL_TEST_DEFINITIONS CORAL_SOURCE_DIR="${CORAL_REAL_SOURCE_DIR}")
 file(GLOB CORAL_CORE_TESTS CONFIGURE_DEPENDS
      ${PROJECT_SOURCE_DIR}/test/coral/test_*.cpp ${PROJECT_SOURCE_DIR}/test/radar/test_*.cpp
      ${PROJECT_SOURCE_DIR}/test/online/test_*.cpp ${PROJECT_SOURCE_DIR}/test/eval/test_*.cpp
-     ${PROJECT_SOURCE_DIR}/test/rio/test_*.cpp)
+     ${PROJECT_SOURCE_DIR}/test/rio/test_*.cpp ${PROJECT_SOURCE_DIR}/test/config/test_*.cpp)
 set(CORAL_CORE_TEST_LIBRARIES coral_introspection_online coral_introspection_eval
     coral_introspection_rio)
