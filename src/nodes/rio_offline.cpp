@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/config/yaml_tree.hpp"
 #include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/eval/rio_run.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
-#include "coral_introspection/rio/config_keys.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
 
@@ -52,7 +52,7 @@ std::string checkTopic(const std::map<std::string, std::string>& topics, const s
   std::string list;
   for (const std::string& n : same_type) list += (list.empty() ? "" : ", ") + n;
   return "the bag has no topic '" + topic + "' (ros/" + setting + ")" +
-         rio::didYouMean(topic, same_type) + "; its " + type +
+         config::didYouMean(topic, same_type) + "; its " + type +
          " topics: " + (list.empty() ? "none" : list);
 }
 
@@ -131,23 +131,20 @@ int main(int argc, char** argv) {
   const std::vector<std::string> overrides = args.all("--set");
   if (bag_path.empty() || config.empty() || output.empty())
     return core::toolError("rio_offline", "--bag, --config and --output are required", kUsage);
-  YAML::Node root;
+  config::ParamTree tree;
   std::string err;
-  try {
-    root = YAML::LoadFile(config);
-  } catch (const YAML::Exception& e) {
-    return refuse("cannot read " + config + ": " + e.what());
-  }
+  if (!config::loadYamlFile(config, &tree, &err)) return refuse("invalid config: " + err);
   for (const std::string& o : overrides)
-    if (!rio::applyOverride(root, o, &err)) {
+    if (!rio::applyOverride(tree, o, &err)) {
       std::cerr << "rio_offline: " << err << "\n";
       return 2;
     }
   rio::RioConfig cfg;
   ros_adapters::RioInputConfig in_cfg;
-  if (!rio::loadRioConfig(root, &cfg, &err, {{"ros"}}) ||
-      !ros_adapters::loadRioInputConfig(root["ros"], &in_cfg, &err))
-    return refuse("invalid config " + config + ": " + err);
+  // Messages name the file and line themselves ("file:line: unknown group ...").
+  if (!rio::loadRioConfig(tree, &cfg, &err, {{"ros"}}) ||
+      !ros_adapters::loadRioInputConfig(tree, &in_cfg, &err))
+    return refuse("invalid config: " + err);
 
   rosbag::Bag bag;
   try {

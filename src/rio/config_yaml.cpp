@@ -2,69 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
+#include "coral_introspection/config/yaml_tree.hpp"
 #include "coral_introspection/coral/validation.hpp"
-#include "coral_introspection/rio/config_keys.hpp"
 
 namespace coral_introspection {
 namespace rio {
 
 namespace {
 
-class Reader {
- public:
-  explicit Reader(const YAML::Node& root) : root_(root) {}
-
-  // The node at "group/key" (or "key"); undefined when absent.
-  YAML::Node find(const std::string& path) {
-    used_.insert(path);
-    const std::size_t slash = path.find('/');
-    if (!root_.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
-    if (slash == std::string::npos) return root_[path];
-    const YAML::Node g = root_[path.substr(0, slash)];
-    if (!g.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
-    return g[path.substr(slash + 1)];
-  }
-  template <class T>
-  bool get(const std::string& path, T* out, const char* expected) {
-    const YAML::Node n = find(path);
-    if (!n.IsDefined() || n.IsNull()) return true;
-    try {
-      *out = n.as<T>();
-    } catch (const YAML::Exception&) {
-      return typeError(path, expected);
-    }
-    return true;
-  }
-  bool get(const std::string& path, double* v) { return get(path, v, "a number"); }
-  bool get(const std::string& path, int* v) { return get(path, v, "an integer"); }
-  bool get(const std::string& path, bool* v) { return get(path, v, "a bool (true/false)"); }
-  bool get(const std::string& path, std::string* v) { return get(path, v, "a string"); }
-  bool getVector(const std::string& path, std::size_t n, std::vector<double>* v) {
-    const YAML::Node node = find(path);
-    if (!node.IsDefined() || node.IsNull()) return true;
-    if (!node.IsSequence() || node.size() != n)
-      return typeError(path, ("a list of " + std::to_string(n) + " numbers").c_str());
-    return get(path, v, "a list of numbers");
-  }
-  // Every key asked for so far ("group/key" or "key").
-  std::vector<std::string> paths() const { return {used_.begin(), used_.end()}; }
-  const std::string& error() const { return error_; }
-
- private:
-  bool typeError(const std::string& path, const char* expected) {
-    error_ = "parameter " + path + " must be " + expected;
-    return false;
-  }
-  YAML::Node root_;
-  std::set<std::string> used_;
-  std::string error_;
-};
-
-bool readAll(Reader& r, RioConfig* c) {
+bool readAll(config::ParamTree& r, RioConfig* c) {
   std::vector<double> t, q;
-  std::string mode = toString(c->uncertainty.mode);
+  const std::vector<UncertaintyMode> modes = {UncertaintyMode::kFull, UncertaintyMode::kNone,
+                                              UncertaintyMode::kNoRange,
+                                              UncertaintyMode::kNoBearing};
+  std::vector<std::string> mode_names;
+  for (UncertaintyMode m : modes) mode_names.push_back(toString(m));
+  int mode =
+      static_cast<int>(std::find(modes.begin(), modes.end(), c->uncertainty.mode) - modes.begin());
   ImuNoiseConfig& imu = c->imu;
   UncertaintyConfig& u = c->uncertainty;
   FrontEndConfig& fe = c->front_end;
@@ -77,8 +32,9 @@ bool readAll(Reader& r, RioConfig* c) {
       r.get("imu/acc_noise", &imu.acc_noise) && r.get("imu/gyro_noise", &imu.gyro_noise) &&
       r.get("imu/acc_bias_walk", &imu.acc_bias_walk) &&
       r.get("imu/gyro_bias_walk", &imu.gyro_bias_walk) && r.get("imu/gravity", &imu.gravity) &&
-      r.getVector("extrinsics/translation", 3, &t) && r.getVector("extrinsics/rotation", 4, &q) &&
-      r.get("radar_time_offset", &c->radar_time_offset) && r.get("uncertainty/mode", &mode) &&
+      r.getList("extrinsics/translation", 3, &t) && r.getList("extrinsics/rotation", 4, &q) &&
+      r.get("radar_time_offset", &c->radar_time_offset) &&
+      r.getChoice("uncertainty/mode", mode_names, &mode) &&
       r.get("uncertainty/sigma_range", &u.noise.sigma_range) &&
       r.get("uncertainty/sigma_azimuth", &u.noise.sigma_azimuth) &&
       r.get("uncertainty/sigma_elevation", &u.noise.sigma_elevation) &&
@@ -139,17 +95,8 @@ bool readAll(Reader& r, RioConfig* c) {
     c->extrinsics.R = std::abs(qq.norm() - 1.0) > 1e-3 ? Mat3::Constant(std::nan(""))
                                                        : qq.normalized().toRotationMatrix();
   }
-  const std::vector<std::pair<const char*, UncertaintyMode>> modes = {
-      {"full", UncertaintyMode::kFull},
-      {"none", UncertaintyMode::kNone},
-      {"no_range", UncertaintyMode::kNoRange},
-      {"no_bearing", UncertaintyMode::kNoBearing}};
-  for (const auto& [name, m] : modes)
-    if (mode == name) {
-      u.mode = m;
-      return true;
-    }
-  return false;
+  u.mode = modes[static_cast<std::size_t>(mode)];
+  return true;
 }
 
 }  // namespace
@@ -170,85 +117,60 @@ const char* toString(UncertaintyMode m) {
 
 namespace {
 
-bool load(const YAML::Node& root, RioConfig* cfg, std::string* error, const RioConfigRules& rules) {
+bool load(config::ParamTree& tree, RioConfig* cfg, std::string* error,
+          const RioConfigRules& rules) {
   using core::fail;
-  if (!root.IsDefined() || root.IsNull()) return fail(error, "the config is empty");
-  if (!root.IsMap())
-    return fail(error, "the config must be a map of groups (imu, extrinsics, ...)");
-  // The valid keys are the ones readAll asks for (from an empty tree nothing fails).
-  Reader probe{YAML::Node()};
-  RioConfig defaults;
-  readAll(probe, &defaults);
-  const std::string unknown = unknownKeys(root, probe.paths(), rules.other_groups);
-  if (!unknown.empty()) return fail(error, unknown);
+  if (tree.empty()) return fail(error, tree.origin() + "the config is empty");
+  for (const std::string& g : rules.other_groups) tree.accept(g);
+  if (!readAll(tree, cfg)) return fail(error, tree.error());
+  // A key nobody read would otherwise leave its setting at the default (a misspelt
+  // "extrinsic:" once meant identity extrinsics with nothing but a warning).
+  if (const std::string unknown = tree.unknownKeysMessage(); !unknown.empty())
+    return fail(error, unknown);
   if (rules.require_extrinsics)
-    for (const char* key : {"translation", "rotation"}) {
-      const YAML::Node g = root["extrinsics"];  // const []: invalid (not null) when absent
-      if (!g.IsDefined() || !g.IsMap() || !g[key] || g[key].IsNull())
-        return fail(error, std::string("extrinsics/") + key +
+    for (const char* key : {"translation", "rotation"})
+      if (!tree.has(std::string("extrinsics/") + key))
+        return fail(error, tree.origin() + "extrinsics/" + key +
                                " is required: the radar pose in the IMU (body) frame, "
                                "translation [x, y, z] m and rotation [qx, qy, qz, qw] (no "
                                "default: identity would be a guess)");
-    }
-  Reader r(root);
-  if (!readAll(r, cfg))
-    return fail(error, r.error().empty() ? "parameter uncertainty/mode must be one of full, "
-                                           "none, no_range, no_bearing"
-                                         : r.error());
-  std::string dummy;
-  if (error == nullptr) error = &dummy;
-  *error = cfg->validate();
-  return error->empty();
+  const std::string invalid = cfg->validate();
+  return invalid.empty() || fail(error, tree.origin() + invalid);
 }
 
 }  // namespace
 
-bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
+bool loadRioConfig(config::ParamTree& tree, RioConfig* cfg, std::string* error,
                    const RioConfigRules& rules) {
-  try {
-    return load(root, cfg, error, rules);
-  } catch (const YAML::Exception& e) {  // a malformed tree the checks above did not foresee
-    return core::fail(error, std::string("config: ") + e.what());
-  }
+  return load(tree, cfg, error, rules);
 }
 
-bool applyOverride(YAML::Node& root, const std::string& assignment, std::string* error) {
+bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
+                   const RioConfigRules& rules) {
+  if (root.IsDefined() && !root.IsNull() && !root.IsMap())
+    return core::fail(error, "the config must be a map of groups (imu, extrinsics, ...)");
+  config::ParamTree tree;
+  return config::fromYaml(root, &tree, error) && load(tree, cfg, error, rules);
+}
+
+bool applyOverride(config::ParamTree& tree, const std::string& assignment, std::string* error) {
   const std::size_t eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0) {
-    if (error) *error = "override '" + assignment + "' is not key=value";
-    return false;
-  }
-  const std::string key = assignment.substr(0, eq);
-  YAML::Node value;
-  try {
-    value = YAML::Load(assignment.substr(eq + 1));
-  } catch (const YAML::Exception& e) {
-    if (error) *error = "override '" + assignment + "': " + e.what();
-    return false;
-  }
-  try {
-    const std::size_t slash = key.find('/');
-    if (slash == std::string::npos)
-      root[key] = value;
-    else
-      root[key.substr(0, slash)][key.substr(slash + 1)] = value;
-  } catch (const YAML::Exception& e) {
-    if (error) *error = "override '" + assignment + "': " + e.what();
-    return false;
-  }
+  if (eq == std::string::npos || eq == 0)
+    return core::fail(error, "override '" + assignment + "' is not key=value");
+  // The value as YAML, typed exactly like a value in the file ({v: <value>} read as a tree).
+  config::ParamTree value;
+  if (!config::parseYaml("v: " + assignment.substr(eq + 1), &value, error))
+    return core::fail(error, "override '" + assignment + "': " + *error);
+  config::ParamNode node = *value.root().child("v");
+  node.where = "--set " + assignment;  // messages about it name the override, not the file
+  tree.set(assignment.substr(0, eq), node);
   return true;
 }
 
 bool loadRioConfigFile(const std::string& path, RioConfig* cfg, std::string* error,
                        const RioConfigRules& rules) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    if (error) *error = "cannot read " + path + ": " + e.what();
-    return false;
-  }
-  return loadRioConfig(root, cfg, error, rules);
+  config::ParamTree tree;
+  return config::loadYamlFile(path, &tree, error) && load(tree, cfg, error, rules);
 }
 
 }  // namespace rio

@@ -55,16 +55,15 @@ class CoralNodelet : public nodelet::Nodelet {
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    // Whole private namespace at once: validation sees every key (typos are reported).
+    // Whole private namespace at once: every key is checked, an unknown group or key (a
+    // typo) fails the load with the message coral_check prints for the same preset.
     XmlRpc::XmlRpcValue tree;
     pnh.getParam(pnh.getNamespace(), tree);
     std::string error;
-    std::vector<std::string> warnings;
-    if (!ros_adapters::loadNodeConfig(tree, &config_, &error, &warnings)) {
+    if (!ros_adapters::loadNodeConfig(tree, &config_, &error, namespaceKeys())) {
       NODELET_FATAL("invalid parameters in %s: %s", pnh.getNamespace().c_str(), error.c_str());
       throw std::runtime_error("CoralNodelet: invalid parameters: " + error);  // load fails
     }
-    for (const auto& w : warnings) NODELET_WARN("%s", w.c_str());
     if (config_.testing_pair_delay > 0.0)
       NODELET_WARN("testing/pair_delay = %.3g s: every pair is slowed down (tests only)",
                    config_.testing_pair_delay);
@@ -110,6 +109,16 @@ class CoralNodelet : public nodelet::Nodelet {
     NODELET_INFO("CoralNodelet: input %s, fixed frame '%s', CorAl %dD r = %.2f m",
                  source_->topic().c_str(), config_.fixed_frame.c_str(),
                  config_.online.coral.dimension, config_.online.coral.radius);
+  }
+
+  // Keys in the private namespace that are not NodeConfig's, so not unknown: the values
+  // dynamic_reconfigure's server writes there (cfg/Coral.cfg; present when the nodelet is
+  // loaded again under the same name), diagnostic_updater's ~diagnostic_period, and
+  // nodelet::Loader's ~num_worker_threads (coral_node runs the loader in the same namespace).
+  static std::vector<std::string> namespaceKeys() {
+    std::vector<std::string> keys = {"diagnostic_period", "num_worker_threads"};
+    for (const auto& p : ReconfigureConfig::__getParamDescriptions__()) keys.push_back(p->name);
+    return keys;
   }
 
   // Input is subscribed only while someone listens to an output (lazy, like

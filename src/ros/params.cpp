@@ -1,123 +1,13 @@
 #include "coral_introspection/ros/params.hpp"
 
-#include <xmlrpcpp/XmlRpcException.h>
-
-#include <cmath>
-#include <set>
 #include <sstream>
+
+#include "coral_introspection/ros/xmlrpc_tree.hpp"
 
 namespace coral_introspection {
 namespace ros_adapters {
 
 namespace {
-
-using XmlRpc::XmlRpcValue;
-
-// Looks parameters up by "group/name" in the private tree; remembers which keys were read.
-class Reader {
- public:
-  explicit Reader(const XmlRpcValue& root) : root_(root) {}
-
-  // Returns the value at path or nullptr when absent.
-  const XmlRpcValue* find(const std::string& path) {
-    used_.insert(path);
-    const XmlRpcValue* v = &root_;
-    std::size_t start = 0;
-    while (true) {
-      const std::size_t slash = path.find('/', start);
-      const std::string key =
-          path.substr(start, slash == std::string::npos ? slash : slash - start);
-      if (v->getType() != XmlRpcValue::TypeStruct || !v->hasMember(key)) return nullptr;
-      v = &(*v)[key];
-      if (slash == std::string::npos) return v;
-      start = slash + 1;
-    }
-  }
-
-  bool get(const std::string& path, double* out) {
-    const XmlRpcValue* v = find(path);
-    if (v == nullptr) return true;
-    if (v->getType() == XmlRpcValue::TypeDouble)
-      *out = static_cast<double>(*v);
-    else if (v->getType() == XmlRpcValue::TypeInt)
-      *out = static_cast<int>(*v);
-    else
-      return typeError(path, "a number");
-    return true;
-  }
-  bool get(const std::string& path, int* out) {
-    const XmlRpcValue* v = find(path);
-    if (v == nullptr) return true;
-    if (v->getType() == XmlRpcValue::TypeInt) {
-      *out = static_cast<int>(*v);
-      return true;
-    }
-    if (v->getType() == XmlRpcValue::TypeDouble) {  // 12.0 is fine, 12.5 is not
-      const double d = static_cast<double>(*v);
-      if (d == std::round(d) && std::abs(d) < 1e9) {
-        *out = static_cast<int>(d);
-        return true;
-      }
-    }
-    return typeError(path, "an integer");
-  }
-  bool get(const std::string& path, bool* out) {
-    const XmlRpcValue* v = find(path);
-    if (v == nullptr) return true;
-    if (v->getType() != XmlRpcValue::TypeBoolean) return typeError(path, "a bool (true/false)");
-    *out = static_cast<bool>(*v);
-    return true;
-  }
-  bool get(const std::string& path, std::string* out) {
-    const XmlRpcValue* v = find(path);
-    if (v == nullptr) return true;
-    if (v->getType() != XmlRpcValue::TypeString) return typeError(path, "a string");
-    *out = static_cast<std::string>(*v);
-    return true;
-  }
-  // String parameter restricted to `allowed`; *index = position in allowed.
-  bool getChoice(const std::string& path, const std::vector<std::string>& allowed, int* index) {
-    std::string s = allowed[*index];
-    if (!get(path, &s)) return false;
-    for (std::size_t i = 0; i < allowed.size(); ++i)
-      if (s == allowed[i]) {
-        *index = static_cast<int>(i);
-        return true;
-      }
-    std::ostringstream e;
-    e << "parameter ~" << path << " = '" << s << "' is not one of:";
-    for (const auto& a : allowed) e << " " << a;
-    error_ = e.str();
-    return false;
-  }
-
-  // Keys in the given groups that no get() asked for.
-  void unknownKeys(const std::vector<std::string>& groups, std::vector<std::string>* out) {
-    for (const auto& g : groups) {
-      if (root_.getType() != XmlRpcValue::TypeStruct || !root_.hasMember(g)) continue;
-      const XmlRpcValue& grp = root_[g];
-      if (grp.getType() != XmlRpcValue::TypeStruct) continue;
-      for (auto it = grp.begin(); it != grp.end(); ++it)
-        if (!used_.count(g + "/" + it->first))
-          out->push_back("unknown parameter ~" + g + "/" + it->first + " (ignored)");
-    }
-  }
-  const std::set<std::string>& used() const { return used_; }
-  const std::string& error() const { return error_; }
-  bool fail(const std::string& message) {
-    error_ = message;
-    return false;
-  }
-
- private:
-  bool typeError(const std::string& path, const char* expected) {
-    error_ = "parameter ~" + path + " must be " + expected;
-    return false;
-  }
-  const XmlRpcValue& root_;
-  std::set<std::string> used_;
-  std::string error_;
-};
 
 // Indexed by core::VerdictMethod.
 std::vector<std::string> methodNames() {
@@ -128,7 +18,7 @@ std::vector<std::string> methodNames() {
   return n;
 }
 
-bool readAll(Reader& r, NodeConfig* c) {
+bool readAll(config::ParamTree& r, NodeConfig* c) {
   online::IntrospectorConfig& o = c->online;
   int input = c->input_type == InputType::kPolarImage ? 1 : 0;
   int agg = o.coral.aggregation == core::Aggregation::kMedian ? 1 : 0;
@@ -227,7 +117,7 @@ bool readAll(Reader& r, NodeConfig* c) {
       dir == 1 ? core::AzimuthDirection::kClockwise : core::AzimuthDirection::kCounterClockwise;
   if (!ok) return false;
   if (seed < 0)
-    return r.fail("parameter ~doppler/seed must be >= 0 (got " + std::to_string(seed) + ")");
+    return r.fail("parameter doppler/seed must be >= 0 (got " + std::to_string(seed) + ")");
   o.doppler.check.seed = static_cast<unsigned>(seed);
   return true;
 }
@@ -270,34 +160,34 @@ std::string NodeConfig::validate() const {
 }
 
 std::vector<std::string> nodeParameterNames() {
-  const XmlRpcValue empty;
-  Reader r(empty);
+  config::ParamTree probe;  // empty: every getter only records its name
   NodeConfig c;
-  readAll(r, &c);
-  return {r.used().begin(), r.used().end()};
+  readAll(probe, &c);
+  return probe.readPaths();
+}
+
+bool loadNodeConfig(config::ParamTree& params, NodeConfig* cfg, std::string* error) {
+  std::string dummy;
+  if (error == nullptr) error = &dummy;
+  if (!readAll(params, cfg)) {
+    *error = params.error();
+    return false;
+  }
+  // An unknown group or key would leave its settings at the defaults without a word (a
+  // misspelt `coarl:` turned a 0.5 m error into "aligned"): an error, never a warning.
+  *error = params.unknownKeysMessage();
+  if (!error->empty()) return false;
+  const std::string invalid = cfg->validate();
+  *error = invalid.empty() ? "" : params.origin() + invalid;
+  return error->empty();
 }
 
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,
-                    std::vector<std::string>* warnings) {
-  std::string dummy;
-  if (error == nullptr) error = &dummy;
-  try {
-    Reader r(params);
-    if (!readAll(r, cfg)) {
-      *error = r.error();
-      return false;
-    }
-    if (warnings)
-      r.unknownKeys(
-          {"pairing", "coral", "classifier", "gate", "loop_closure", "free_space", "tolerance",
-           "radar", "rip", "motion_compensation", "publish", "doppler", "testing", "calibration"},
-          warnings);
-  } catch (const XmlRpc::XmlRpcException& e) {
-    *error = std::string("malformed parameter tree: ") + e.getMessage();
-    return false;
-  }
-  *error = cfg->validate();
-  return error->empty();
+                    const std::vector<std::string>& also_accepted) {
+  config::ParamTree tree;
+  if (!fromXmlRpc(params, &tree, error)) return false;
+  for (const std::string& key : also_accepted) tree.accept(key);
+  return loadNodeConfig(tree, cfg, error);
 }
 
 }  // namespace ros_adapters

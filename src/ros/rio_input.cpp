@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "coral_introspection/coral/validation.hpp"
-#include "coral_introspection/rio/config_keys.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
 namespace coral_introspection {
@@ -38,36 +37,21 @@ bool extrinsicsFromTransform(const geometry_msgs::Transform& body_radar, rio::Ex
   return true;
 }
 
-bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error) {
-  if (node && !node.IsNull() && !node.IsMap()) {
-    *error = "group ros must be a map of parameters";
-    return false;
-  }
+bool loadRioInputConfig(const config::ParamTree& file, RioInputConfig* cfg, std::string* error) {
+  config::ParamTree ros;
+  if (!file.subtree("ros", &ros, error)) return false;
+  const bool ok =
+      ros.get("imu_topic", &cfg->imu_topic) && ros.get("radar_topic", &cfg->radar_topic) &&
+      ros.get("trigger_topic", &cfg->trigger_topic) && ros.get("baro_topic", &cfg->baro_topic) &&
+      ros.get("time_source", &cfg->time_source) &&
+      ros.get("velocity_field", &cfg->velocity_field) &&
+      ros.get("trigger_seq_offset", &cfg->trigger_seq_offset);
+  if (!ok) return core::fail(error, ros.error());
   // A misspelt key would leave a topic at its default: an error, as in the estimator's groups.
-  *error = rio::unknownKeys(node,
-                            {"imu_topic", "radar_topic", "trigger_topic", "baro_topic",
-                             "time_source", "velocity_field", "trigger_seq_offset"},
-                            {}, "ros/");
-  if (!error->empty()) return false;
-  try {
-    if (node && node.IsMap()) {
-      auto get = [&](const char* key, auto* value) {
-        if (node[key]) *value = node[key].as<std::decay_t<decltype(*value)>>();
-      };
-      get("imu_topic", &cfg->imu_topic);
-      get("radar_topic", &cfg->radar_topic);
-      get("trigger_topic", &cfg->trigger_topic);
-      get("baro_topic", &cfg->baro_topic);
-      get("time_source", &cfg->time_source);
-      get("velocity_field", &cfg->velocity_field);
-      get("trigger_seq_offset", &cfg->trigger_seq_offset);
-    }
-  } catch (const YAML::Exception& e) {
-    *error = std::string("ros group: ") + e.what();
-    return false;
-  }
-  *error = cfg->validate();
-  return error->empty();
+  if (const std::string unknown = ros.unknownKeysMessage(); !unknown.empty())
+    return core::fail(error, unknown);
+  const std::string invalid = cfg->validate();
+  return invalid.empty() || core::fail(error, file.origin() + invalid);
 }
 
 bool RioInput::imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string* error) {

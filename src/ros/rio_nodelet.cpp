@@ -8,8 +8,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coral_introspection/config/yaml_tree.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/conversions.hpp"
+#include "coral_introspection/ros/xmlrpc_tree.hpp"
 
 namespace coral_introspection {
 
@@ -33,24 +35,44 @@ void RioNodelet::guarded(const char* what, F&& f) noexcept {
   }
 }
 
-std::string RioNodelet::loadConfig(const ros::NodeHandle& pnh, const std::string& config_file,
+std::string RioNodelet::readParameters(const ros::NodeHandle& pnh, std::string* config_file,
+                                       std::string* time_source, bool* publish_extrinsics_tf) {
+  XmlRpc::XmlRpcValue params;
+  pnh.getParam(pnh.getNamespace(), params);
+  config::ParamTree tree;
+  std::string err;
+  if (!ros_adapters::fromXmlRpc(params, &tree, &err)) return err;
+  // Not ours but legitimately here: diagnostic_updater's ~diagnostic_period, and
+  // nodelet::Loader's ~num_worker_threads (`nodelet standalone` shares the namespace).
+  tree.accept("diagnostic_period");
+  tree.accept("num_worker_threads");
+  std::string imu_frame;  // default: base_frame
+  const bool ok =
+      tree.get("config_file", config_file) && tree.get("odom_frame", &odom_frame_) &&
+      tree.get("base_frame", &base_frame_) && tree.get("radar_frame", &radar_frame_) &&
+      tree.get("publish_tf", &publish_tf_) && tree.get("max_path_length", &max_path_length_) &&
+      tree.get("extrinsics_source", &extrinsics_source_) && tree.get("imu_frame", &imu_frame) &&
+      tree.get("heap_release_interval", &heap_release_interval_) &&
+      tree.get("publish_extrinsics_tf", publish_extrinsics_tf) &&
+      tree.get("time_source", time_source);
+  imu_frame_ = tree.has("imu_frame") ? imu_frame : base_frame_;
+  return ok ? tree.unknownKeysMessage() : tree.error();
+}
+
+std::string RioNodelet::loadConfig(const std::string& config_file, const std::string& time_source,
                                    bool publish_extrinsics_tf, rio::RioConfig* cfg,
                                    ros_adapters::RioInputConfig* in_cfg) {
   if (config_file.empty()) return "parameter ~config_file is required (a rio YAML file)";
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(config_file);
-  } catch (const YAML::Exception& e) {
-    return "cannot read config_file " + config_file + ": " + e.what();
-  }
+  config::ParamTree tree;
+  std::string err;
   // With extrinsics from TF the file need not (and should not) give them.
   rio::RioConfigRules rules{{"ros"}, extrinsics_source_ == "config"};
-  std::string err;
-  if (!(rio::loadRioConfig(root, cfg, &err, rules) &&
-        ros_adapters::loadRioInputConfig(root["ros"], in_cfg, &err)))
-    return "invalid config " + config_file + ": " + err;
-  std::string time_source;  // optional override of the config's ros/time_source
-  if (pnh.getParam("time_source", time_source)) {
+  // The messages rio_offline prints, naming file and line ("file:line: unknown group ...").
+  if (!(config::loadYamlFile(config_file, &tree, &err) &&
+        rio::loadRioConfig(tree, cfg, &err, rules) &&
+        ros_adapters::loadRioInputConfig(tree, in_cfg, &err)))
+    return "invalid config_file: " + err;
+  if (!time_source.empty()) {  // optional override of the config's ros/time_source
     in_cfg->time_source = time_source;
     if (!(err = in_cfg->validate()).empty()) return "~time_source: " + err;
   }
@@ -61,7 +83,7 @@ std::string RioNodelet::loadConfig(const ros::NodeHandle& pnh, const std::string
   if (imu_frame_.empty() || radar_frame_.empty()) return "imu_frame and radar_frame must be set";
   if (extrinsics_source_ == "tf" && publish_extrinsics_tf)
     return "publish_extrinsics_tf needs extrinsics_source config (with tf they come from TF)";
-  if (extrinsics_source_ == "tf" && root["extrinsics"])
+  if (extrinsics_source_ == "tf" && tree.has("extrinsics"))
     NODELET_WARN("extrinsics_source tf: the extrinsics of %s are not used", config_file.c_str());
   if (!(heap_release_interval_ >= 0.0 && heap_release_interval_ <= 3600.0))
     return "heap_release_interval must be in [0, 3600] s, 0 = off (got " +
@@ -72,22 +94,12 @@ std::string RioNodelet::loadConfig(const ros::NodeHandle& pnh, const std::string
 void RioNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
-  std::string config_file;
-  pnh.param<std::string>("config_file", config_file, "");
-  pnh.param<std::string>("odom_frame", odom_frame_, odom_frame_);
-  pnh.param<std::string>("base_frame", base_frame_, base_frame_);
-  pnh.param<std::string>("radar_frame", radar_frame_, radar_frame_);
-  pnh.param<bool>("publish_tf", publish_tf_, publish_tf_);
-  pnh.param<int>("max_path_length", max_path_length_, max_path_length_);
-  pnh.param<std::string>("extrinsics_source", extrinsics_source_, extrinsics_source_);
-  pnh.param<std::string>("imu_frame", imu_frame_, base_frame_);
-  pnh.param<double>("heap_release_interval", heap_release_interval_, heap_release_interval_);
+  std::string config_file, time_source;
   bool publish_extrinsics_tf = false;
-  pnh.param<bool>("publish_extrinsics_tf", publish_extrinsics_tf, false);
-
   rio::RioConfig cfg;
   ros_adapters::RioInputConfig in_cfg;
-  const std::string err = loadConfig(pnh, config_file, publish_extrinsics_tf, &cfg, &in_cfg);
+  std::string err = readParameters(pnh, &config_file, &time_source, &publish_extrinsics_tf);
+  if (err.empty()) err = loadConfig(config_file, time_source, publish_extrinsics_tf, &cfg, &in_cfg);
   if (!err.empty()) {
     // As CoralNodelet: a configuration error fails the load (the manager reports it), rather
     // than a loaded nodelet that does nothing.

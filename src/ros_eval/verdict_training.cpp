@@ -76,13 +76,10 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   NodeConfig node;
   core::VerdictConfig verdict;
   std::string err;
-  std::vector<std::string> warnings;
-  if (!loadPresetFile(o.preset, &node, &verdict, &err, &warnings)) {
+  if (!loadPresetFile(o.preset, &node, &verdict, &err)) {
     log << "coral_train: " << err << "\n";
     return 2;
   }
-  for (const std::string& w : warnings)
-    log << "coral_train: warning: " << o.preset << ": " << w << "\n";
   if (o.relative_margin >= 0.0) verdict.relative.margin = o.relative_margin;
   if (o.datasets.empty() == o.sample_files.empty()) {
     log << "coral_train: give data sets (--dataset) or sample files (--samples), not both\n";

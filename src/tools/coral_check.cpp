@@ -7,7 +7,8 @@
 // (x,y,z columns) for a point-cloud preset; .png (polar radar image, the preset's
 // radar/polar_format) for a polar_image preset. T.txt: 4x4 or 3x4 row-major T_a_b mapping
 // points of b into a's frame. The preset is read with the nodelet's own parameter loader
-// (no ROS master needed), so it means exactly what it means online.
+// (no ROS master needed), so it means exactly what it means online; an unknown group or
+// key, a duplicate key or a wrong type exits with status 2 and the message the nodelet logs.
 // Prints one JSON object on one line; `seconds` is the median over the repeats of the time
 // from the loaded clouds (images) to the verdict, preprocessing included. Exit status 0 when
 // it judged (valid or not), 2 with a message on stderr for bad arguments or input.
@@ -32,7 +33,7 @@
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/ros/params.hpp"
 #include "coral_introspection/ros/scan_input.hpp"
-#include "coral_introspection/ros_eval/yaml_params.hpp"
+#include "coral_introspection/ros_eval/preset_file.hpp"
 
 using namespace coral_introspection;
 using ros_adapters::NodeConfig;
@@ -178,17 +179,12 @@ int main(int argc, char** argv) {
                            kUsage);
 
   std::string err;
-  XmlRpc::XmlRpcValue tree, clf_tree;
-  if (!ros_adapters::loadYamlParams(config, &tree, &err)) return fail(err);
-  if (!classifier.empty()) {
-    if (!ros_adapters::loadYamlParams(classifier, &clf_tree, &err)) return fail(err);
-    ros_adapters::mergeParams(clf_tree, &tree);
-  }
+  // The classifier file over the preset, key by key, as coral.launch loads both. A misspelt
+  // group or key, a duplicate key or a wrong type is an error naming file and line.
+  std::vector<std::string> presets = {config};
+  if (!classifier.empty()) presets.push_back(classifier);
   NodeConfig cfg;
-  std::vector<std::string> warnings;
-  if (!ros_adapters::loadNodeConfig(tree, &cfg, &err, &warnings)) return fail(config + ": " + err);
-  for (const std::string& w : warnings)
-    std::fprintf(stderr, "coral_check: warning: %s\n", w.c_str());
+  if (!ros_adapters::loadPresetFiles(presets, &cfg, &err)) return fail(err);
 
   if (loop_closure) cfg.online.verdict = core::loopClosureVerdict(cfg.online.verdict);
   Eigen::Isometry3d T_a_b;

@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
   ros_adapters::NodeConfig node;
   core::VerdictConfig verdict;
   if (!ros_adapters::loadPresetFile(config, &node, &verdict, &err))
-    return fail(config + ": " + err);
+    return fail(err);  // names the file (and line)
   // Every term of the verdict (classifier and relative check) in the CSV; the summary counts
   // the preset's own method, combined from the same terms.
   online::IntrospectorConfig judge_cfg = node.online;

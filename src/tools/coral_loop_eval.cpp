@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
   ros_adapters::NodeConfig node;
   core::VerdictConfig verdict;
   if (!ros_adapters::loadPresetFile(config, &node, &verdict, &err))
-    return fail(config + ": " + err);
+    return fail(err);  // names the file (and line)
   online::IntrospectorConfig judge_cfg = node.online;
   judge_cfg.verdict.method = core::VerdictMethod::kBoth;  // every term of the verdict
   // The loop gate as `gate` (loop_gates.hpp); the free-space conflict measured for the CSV

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/config/yaml_tree.hpp"
 #include "coral_introspection/eval/rio_run.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
@@ -60,21 +61,19 @@ int main(int argc, char** argv) {
   // No config would mean default extrinsics, which no rig has (config_yaml.hpp).
   if (sequence.empty() || config.empty())
     return core::toolError("coral_rio_run", "--sequence and --config are required", kUsage);
-  YAML::Node root;
+  config::ParamTree tree;
   std::string err;
-  try {
-    root = YAML::LoadFile(config);
-  } catch (const YAML::Exception& e) {
-    std::cerr << "coral_rio_run: cannot read " << config << ": " << e.what() << "\n";
+  if (!config::loadYamlFile(config, &tree, &err)) {
+    std::cerr << "coral_rio_run: " << err << "\n";
     return 1;
   }
   for (const std::string& o : overrides)
-    if (!rio::applyOverride(root, o, &err)) {
+    if (!rio::applyOverride(tree, o, &err)) {
       std::cerr << "coral_rio_run: " << err << "\n";
       return 2;
     }
   rio::RioConfig cfg;
-  if (!rio::loadRioConfig(root, &cfg, &err, {{"ros"}})) {
+  if (!rio::loadRioConfig(tree, &cfg, &err, {{"ros"}})) {
     std::cerr << "coral_rio_run: invalid config: " << err << "\n";
     return 1;
   }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "coral_introspection/config/yaml_tree.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
 
@@ -88,23 +89,34 @@ TEST(RioInput, TriggerOfTheSameSequenceNumberGivesTheTime) {
   EXPECT_DOUBLE_EQ(f[0].t, 100.2);
 }
 
+namespace {
+
+// The ros group of a rio config file given as YAML text.
+bool loadInput(const std::string& yaml, ra::RioInputConfig* cfg, std::string* err) {
+  coral_introspection::config::ParamTree tree;
+  return coral_introspection::config::parseYaml(yaml, &tree, err) &&
+         ra::loadRioInputConfig(tree, cfg, err);
+}
+
+}  // namespace
+
 TEST(RioInput, ConfigFromYamlIsValidated) {
   ra::RioInputConfig cfg;
   std::string err;
-  EXPECT_TRUE(
-      ra::loadRioInputConfig(YAML::Load("{time_source: trigger, trigger_topic: /t}"), &cfg, &err))
-      << err;
+  EXPECT_TRUE(loadInput("ros: {time_source: trigger, trigger_topic: /t}", &cfg, &err)) << err;
   EXPECT_EQ(cfg.trigger_topic, "/t");
-  EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("{time_source: gps}"), &cfg, &err));
+  EXPECT_FALSE(loadInput("ros: {time_source: gps}", &cfg, &err));
   EXPECT_NE(err.find("time_source"), std::string::npos);
   cfg = ra::RioInputConfig();
-  EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("{time_source: trigger}"), &cfg, &err));
+  EXPECT_FALSE(loadInput("ros: {time_source: trigger}", &cfg, &err));
   // A misspelt key would leave the topic at its default: refused with the nearest key.
   cfg = ra::RioInputConfig();
-  EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("{imu_topc: /imu}"), &cfg, &err));
-  EXPECT_EQ(err, "unknown parameter ros/imu_topc (did you mean imu_topic?)");
-  EXPECT_FALSE(ra::loadRioInputConfig(YAML::Load("[a, b]"), &cfg, &err));
+  EXPECT_FALSE(loadInput("ros: {imu_topc: /imu}", &cfg, &err));
+  EXPECT_EQ(err, "unknown key ros/imu_topc (did you mean imu_topic?)");
+  EXPECT_FALSE(loadInput("ros: [a, b]", &cfg, &err));
   EXPECT_EQ(err, "group ros must be a map of parameters");
+  EXPECT_FALSE(loadInput("ros: {trigger_seq_offset: one}", &cfg, &err));
+  EXPECT_EQ(err, "parameter ros/trigger_seq_offset must be an integer (got 'one')");
 }
 
 // Every RioNodelet / rio_offline config in config/ loads without errors.
@@ -116,12 +128,13 @@ TEST(RioInput, EveryRioConfigLoads) {
     if (name.rfind("rio_", 0) != 0) continue;
     SCOPED_TRACE(name);
     ++n;
-    const YAML::Node root = YAML::LoadFile(e.path().string());
+    coral_introspection::config::ParamTree tree;
     rio::RioConfig cfg;
     ra::RioInputConfig in;
     std::string err;
-    EXPECT_TRUE(rio::loadRioConfig(root, &cfg, &err, {{"ros"}})) << err;
-    EXPECT_TRUE(ra::loadRioInputConfig(root["ros"], &in, &err)) << err;
+    ASSERT_TRUE(coral_introspection::config::loadYamlFile(e.path().string(), &tree, &err)) << err;
+    EXPECT_TRUE(rio::loadRioConfig(tree, &cfg, &err, {{"ros"}})) << err;
+    EXPECT_TRUE(ra::loadRioInputConfig(tree, &in, &err)) << err;
   }
   EXPECT_GE(n, 3);
 }

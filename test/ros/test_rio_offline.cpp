@@ -186,9 +186,9 @@ TEST(RioOffline, ConfigErrorsAreRefusedNamingTheKey) {
       rioOffline(bag, writeConfig("misspelt", "extrinsic: {translation: [0, 0, 0]}\n"), "misspelt"),
       "unknown group extrinsic (did you mean extrinsics?)");
   expectRefused(rioOffline(bag, writeConfig("top", ext + "window_size: 8\n"), "top"),
-                "unknown parameter window_size (did you mean solver/window_size?)");
+                "unknown key window_size (did you mean solver/window_size?)");
   expectRefused(rioOffline(bag, writeConfig("ros", ext + "ros: {imu_topik: /imu}\n"), "ros"),
-                "unknown parameter ros/imu_topik (did you mean imu_topic?)");
+                "unknown key ros/imu_topik (did you mean imu_topic?)");
 }
 
 TEST(RioOffline, EmptyBagIsRefused) {

@@ -188,6 +188,31 @@ TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
   }
 }
 
+// Issue 23: a preset with `coarl:` for `coral:` (or `coral:` given twice) was loaded without a
+// word and judged a 0.5 m error "aligned" with the default radius. Now: exit 2, the file, the
+// line and the nearest valid name; the same message the nodelet logs when its load fails.
+TEST_F(CoralCheck, MisspeltOrDuplicateGroupInThePresetIsRefused) {
+  const std::string typo = tempPath("cc_coarl", ".yaml");
+  std::ofstream(typo) << "input_type: pointcloud\ncoarl:\n  dimension: 3\n  radius: 0.5\n";
+  CheckRun r =
+      runCheck("--config " + typo + " --a " + a_ + " --b " + b_ + " --transform_file " + t_bad_);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_TRUE(r.out.empty()) << r.out;  // no verdict at all
+  EXPECT_EQ(r.err, "coral_check: " + typo + ":2: unknown group coarl (did you mean coral?)\n");
+  const std::string twice = tempPath("cc_twice", ".yaml");
+  std::ofstream(twice) << "coral:\n  radius: 0.5\ninput_type: pointcloud\ncoral:\n  dimension: 3\n";
+  r = runCheck("--config " + twice + " --a " + a_ + " --b " + b_ + " --transform_file " + t_bad_);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_EQ(r.err, "coral_check: " + twice + ": duplicate key coral (lines 1 and 4)\n");
+  // A misspelt key of the classifier file loaded over the preset names that file.
+  const std::string clf = tempPath("cc_clf", ".yaml");
+  std::ofstream(clf) << "classifier:\n  beta0: 3.0\n  treshold: 0.4\n";
+  r = runCheck(args(t_bad_) + " --classifier " + clf);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_EQ(r.err, "coral_check: " + clf +
+                       ":3: unknown key classifier/treshold (did you mean threshold?)\n");
+}
+
 TEST(CoralCheckRadar, OxfordPngPairAtGroundTruthIsAligned) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   OxfordDataset ds;

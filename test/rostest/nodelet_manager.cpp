@@ -1,13 +1,16 @@
 // rostest: CoralNodelet in a nodelet manager next to another nodelet (a second instance),
-// loaded and unloaded through the manager's services (see nodelet_manager.test).
+// loaded and unloaded through the manager's services (see nodelet_manager.test); loads with
+// invalid or misspelt parameters fail.
 #include "coral_rostest_utils.hpp"
 #include "rostest_main.hpp"
 
 #include <nodelet/NodeletList.h>
 #include <nodelet/NodeletLoad.h>
 #include <nodelet/NodeletUnload.h>
+#include <rosgraph_msgs/Log.h>
 
 #include <algorithm>
+#include <mutex>
 
 using namespace coral_test;
 using coral_introspection::AlignmentQuality;
@@ -99,6 +102,35 @@ TEST(Manager, InvalidParametersFailTheLoad) {
   const auto names = loaded();
   EXPECT_EQ(std::count(names.begin(), names.end(), "/broken/coral"), 0);
   EXPECT_EQ(names.size(), 1u);  // the manager still runs the nodelet loaded above
+}
+
+// Issue 23: a misspelt group (`coarl:`) was ignored and its settings left at the defaults.
+// Now the load fails and the FATAL log says why, in the words coral_check uses for the same
+// preset.
+TEST(Manager, MisspeltGroupFailsTheLoadNamingTheNearestGroup) {
+  ros::NodeHandle nh;
+  std::mutex mutex;
+  std::vector<std::string> logs;
+  ros::Subscriber sub = nh.subscribe<rosgraph_msgs::Log>(
+      "/rosout_agg", 100, [&](const rosgraph_msgs::Log::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        logs.push_back(m->msg);
+      });
+  for (int i = 0; i < 100 && sub.getNumPublishers() == 0; ++i) ros::WallDuration(0.1).sleep();
+  ASSERT_GT(sub.getNumPublishers(), 0u);
+  ros::param::set("/typo/coral/coarl/radius", 0.5);
+  EXPECT_FALSE(load("typo"));
+  const auto names = loaded();
+  EXPECT_EQ(std::count(names.begin(), names.end(), "/typo/coral"), 0);
+  const std::string expected =
+      "invalid parameters in /typo/coral: unknown group coarl (did you mean coral?)";
+  bool found = false;
+  for (int i = 0; i < 100 && !found; ++i) {
+    ros::WallDuration(0.1).sleep();
+    std::lock_guard<std::mutex> lock(mutex);
+    found = std::find(logs.begin(), logs.end(), expected) != logs.end();
+  }
+  EXPECT_TRUE(found) << "no log \"" << expected << "\"";
 }
 
 }  // namespace

@@ -28,7 +28,7 @@
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/params.hpp"
-#include "coral_introspection/ros_eval/yaml_params.hpp"
+#include "coral_introspection/ros_eval/preset_file.hpp"
 #include "coral_rostest_utils.hpp"
 #include "rostest_main.hpp"
 #include "support/test_data.hpp"
@@ -178,14 +178,10 @@ TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {
   ros::NodeHandle pnh("~");
   std::string file;
   ASSERT_TRUE(pnh.getParam("calibration_file", file));
-  XmlRpc::XmlRpcValue preset, written;
-  ASSERT_TRUE(
-      ra::loadYamlParams(std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", &preset, &error))
-      << error;
-  ASSERT_TRUE(ra::loadYamlParams(file, &written, &error)) << error << " (" << file << ")";
-  ra::mergeParams(written, &preset);
   ra::NodeConfig cfg;
-  ASSERT_TRUE(ra::loadNodeConfig(preset, &cfg, &error)) << error;
+  ASSERT_TRUE(ra::loadPresetFiles({std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", file},
+                                  &cfg, &error))
+      << error;
   EXPECT_EQ(cfg.online.verdict.method, core::VerdictMethod::kClassifier);
   EXPECT_LT(cfg.online.verdict.classifier.beta0, 30.0);  // not the wrong starting point
   int right = 0, total = 0;

@@ -405,6 +405,10 @@ TEST(RioNodelet, ConfigErrorsFailTheLoad) {
   EXPECT_FALSE(loadWithConfig("/l_empty/rio", ""));
   EXPECT_FALSE(loadWithConfig("/l_none/rio", nullptr));  // no config_file at all
   EXPECT_FALSE(loadWithConfig("/l_heap/rio", good, "heap_release_interval", -1.0));
+  // Issue 23: a group given twice, and a misspelt private parameter (unknown key
+  // heap_release_intervall (did you mean heap_release_interval?)), were silently ignored.
+  EXPECT_FALSE(loadWithConfig("/l_twice/rio", (std::string(good) + good).c_str()));
+  EXPECT_FALSE(loadWithConfig("/l_param/rio", good, "heap_release_intervall", 1.0));
   const std::vector<std::string> names = loadedNodelets();
   EXPECT_EQ(std::count_if(names.begin(), names.end(),
                           [](const std::string& n) { return n.rfind("/l_", 0) == 0; }),

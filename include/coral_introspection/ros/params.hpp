@@ -1,9 +1,13 @@
 // Parameters of CoralNodelet: one struct holding every setting (defaults = the core and
 // online config defaults), loaded from the private namespace and validated before anything
-// starts. Loading works on an XmlRpc tree so it is unit-tested without a ROS master.
+// starts. Loading reads a config::ParamTree (from the parameter server's XmlRpc tree, or from
+// preset YAML files by the tools), so it is unit-tested without a ROS master and a preset
+// means the same to coral_check as to the nodelet.
 #pragma once
 
 #include <xmlrpcpp/XmlRpcValue.h>
+
+#include "coral_introspection/config/param_tree.hpp"
 
 #include <string>
 #include <vector>
@@ -47,13 +51,17 @@ struct NodeConfig {
 
   std::string validate() const;  // empty when valid; names the parameter, value and range
 };
-// Reads the private parameter tree `params` (a struct, e.g. from
+// Reads the parameter tree `params` into *cfg. Missing keys keep their defaults. Returns false
+// with *error, in this order: a value of the wrong type (naming the parameter, its value and,
+// from a file, "file:line"); every group or key that is not a parameter, each with the
+// nearest valid name ("unknown group coarl (did you mean coral?)"); validate()'s message.
+bool loadNodeConfig(config::ParamTree& params, NodeConfig* cfg, std::string* error);
+// The same from the private namespace's XmlRpc tree (a struct, e.g. from
 // nh.getParam(pnh.getNamespace(), v); an invalid/empty value means "no parameters set").
-// Missing keys keep their defaults. Returns false with *error naming the parameter, the
-// value and the allowed range / type on the first problem, then on validate(). Unknown keys
-// inside the known groups (coral/, rip/, ...) are reported in *warnings (likely typos).
+// `also_accepted`: keys that live in the namespace but are not NodeConfig's (CoralNodelet's
+// dynamic_reconfigure values, ...), never unknown.
 bool loadNodeConfig(const XmlRpc::XmlRpcValue& params, NodeConfig* cfg, std::string* error,
-                    std::vector<std::string>* warnings = nullptr);
+                    const std::vector<std::string>& also_accepted = {});
 
 // Every parameter loadNodeConfig reads ("group/name", sorted): the README's table is
 // checked against it.

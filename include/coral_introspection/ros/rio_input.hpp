@@ -11,11 +11,11 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
-#include <yaml-cpp/yaml.h>
 
 #include <string>
 #include <vector>
 
+#include "coral_introspection/config/param_tree.hpp"
 #include "coral_introspection/rio/barometer.hpp"
 #include "coral_introspection/rio/radar_factors.hpp"
 #include "coral_introspection/rio/trigger_matcher.hpp"
@@ -37,9 +37,10 @@ struct RioInputConfig {
   std::string validate() const;             // empty when valid
 };
 
-// Reads `node` (the ros group; missing keys keep defaults). False with *error on an unknown
-// key (naming the nearest valid one), a bad type or an invalid result.
-bool loadRioInputConfig(const YAML::Node& node, RioInputConfig* cfg, std::string* error);
+// Reads the `ros` group of a rio config file (missing keys keep defaults). False with *error
+// on a group that is not a map, a bad type, an unknown key (naming the nearest valid one) or
+// an invalid result.
+bool loadRioInputConfig(const config::ParamTree& file, RioInputConfig* cfg, std::string* error);
 
 struct RioInputCounters {
   long bad_imu = 0, bad_clouds = 0, no_velocity_field = 0, unmatched_scans = 0, bad_baro = 0;

@@ -15,11 +15,11 @@
 // mounting). With extrinsics from the config, publish_extrinsics_tf broadcasts them as a static
 // TF imu_frame -> radar_frame (what CoralNodelet needs to pose the scans; Debian's ROS has no
 // static_transform_publisher).
-// Refuse, don't guess: a configuration error (an unknown key, missing extrinsics, an invalid
-// value) fails the load (onInit throws, as CoralNodelet); refused input (scans without the
-// radial-velocity field, IMU units that cannot be right) gives no odometry and an ERROR in
-// the diagnostics with the reason. heap_release_interval (s, default 10, 0 = off): as
-// CoralNodelet, the allocator's free pages go back to the system at most that often.
+// Refuse, don't guess: a configuration error (an unknown private parameter or config key,
+// missing extrinsics, an invalid value) fails the load (onInit throws, as CoralNodelet); refused
+// input (scans without the radial-velocity field, IMU units that cannot be right) gives no odometry
+// and an ERROR in the diagnostics with the reason. heap_release_interval (s, default 10, 0 = off):
+// as CoralNodelet, the allocator's free pages go back to the system at most that often.
 #pragma once
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -54,8 +54,13 @@ class RioNodelet : public nodelet::Nodelet {
   };
 
   void onInit() override;
-  // Reads the parameters' config file and checks the parameters; the error, "" when valid.
-  std::string loadConfig(const ros::NodeHandle& pnh, const std::string& config_file,
+  // Reads the private parameters (config_file, frames, ...; an unknown one is an error naming
+  // the nearest valid name, as in the config file); the error, "" when valid.
+  std::string readParameters(const ros::NodeHandle& pnh, std::string* config_file,
+                             std::string* time_source, bool* publish_extrinsics_tf);
+  // Reads the config file and checks the parameters; the error, "" when valid. time_source:
+  // "" or an override of the file's ros/time_source.
+  std::string loadConfig(const std::string& config_file, const std::string& time_source,
                          bool publish_extrinsics_tf, rio::RioConfig* cfg,
                          ros_adapters::RioInputConfig* in_cfg);
   template <class F>
