@@ -209,24 +209,26 @@ bool ParamTree::get(const std::string& path, int* out) {
   return typeError(path, *n, "an integer");
 }
 
+const Scalar* ParamTree::scalarOf(const std::string& path, Scalar::Type type, const char* expected,
+                                  bool* ok) {
+  const ParamNode* n = lookup(path, ok);
+  if (n == nullptr) return nullptr;
+  if (n->kind == ParamNode::Kind::kScalar && n->scalar.type == type) return &n->scalar;
+  *ok = typeError(path, *n, expected);
+  return nullptr;
+}
+
 bool ParamTree::get(const std::string& path, bool* out) {
   bool ok = true;
-  const ParamNode* n = lookup(path, &ok);
-  if (n == nullptr) return ok;
-  if (n->kind != ParamNode::Kind::kScalar || n->scalar.type != Scalar::Type::kBool)
-    return typeError(path, *n, "a bool (true/false)");
-  *out = n->scalar.b;
-  return true;
+  if (const Scalar* s = scalarOf(path, Scalar::Type::kBool, "a bool (true/false)", &ok))
+    *out = s->b;
+  return ok;
 }
 
 bool ParamTree::get(const std::string& path, std::string* out) {
   bool ok = true;
-  const ParamNode* n = lookup(path, &ok);
-  if (n == nullptr) return ok;
-  if (n->kind != ParamNode::Kind::kScalar || n->scalar.type != Scalar::Type::kString)
-    return typeError(path, *n, "a string");
-  *out = n->scalar.s;
-  return true;
+  if (const Scalar* s = scalarOf(path, Scalar::Type::kString, "a string", &ok)) *out = s->s;
+  return ok;
 }
 
 bool ParamTree::getList(const std::string& path, std::size_t n, std::vector<double>* out) {

@@ -116,6 +116,9 @@ class ParamTree {
   // (error_ set: a value where a group is needed).
   const ParamNode* lookup(const std::string& path, bool* ok);
   bool typeError(const std::string& path, const ParamNode& n, const char* expected);
+  // The scalar at path when it has `type`; nullptr when absent or (*ok false) of another type.
+  const Scalar* scalarOf(const std::string& path, Scalar::Type type, const char* expected,
+                         bool* ok);
   bool isAccepted(const std::string& path) const;
   bool isReadGroup(const std::string& path) const;
   void collectUnknown(const ParamNode& group, const std::string& prefix,
