@@ -7,10 +7,8 @@
 # (--config: parameter file of the nodelet, default config/radar_oxford.yaml)
 # Expects a built workspace (coral_build). Everything it starts is stopped on exit.
 set -euo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
-set +u
-source "${CORAL_WS}/devel/setup.bash"
-set -u
+# shellcheck source-path=SCRIPTDIR source=ros_session.sh
+source "$(dirname "${BASH_SOURCE[0]}")/ros_session.sh"
 port=11311
 duration=1800
 clock=""
@@ -26,25 +24,15 @@ while [ $# -gt 0 ]; do
     *) echo "unknown argument $1" >&2; exit 2 ;;
   esac
 done
-export ROS_MASTER_URI="http://localhost:${port}"
-bag="$(mktemp -d)/oxford.bag"
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$(dirname "${bag}")"
-}
-trap cleanup EXIT
+session_tmp="$(mktemp -d)"
+bag="${session_tmp}/oxford.bag"
 rosrun coral_introspection oxford_to_bag "${data}" "${bag}"
-roscore -p "${port}" >/dev/null 2>&1 &
-pids+=($!)
-until rosparam list >/dev/null 2>&1; do sleep 0.2; done
+session_roscore "${port}"
 [ -n "${clock}" ] && rosparam set /use_sim_time true
-roslaunch -p "${port}" coral_introspection coral.launch \
+session_bg roslaunch -p "${port}" coral_introspection coral.launch \
   config:="${config}" input_type:=polar_image \
-  polar_image:=/radar/polar fixed_frame:=odom output:=log >/dev/null 2>&1 &
-pids+=($!)
-rosbag play -q -l ${clock} -d 2 "${bag}" >/dev/null 2>&1 &
-pids+=($!)
+  polar_image:=/radar/polar fixed_frame:=odom output:=log
+# shellcheck disable=SC2086  # ${clock}: empty or --clock
+session_bg rosbag play -q -l ${clock} -d 2 "${bag}"
 rosrun coral_introspection coral_stream_bench --monitor --alignment /alignment \
   --pid-of /coral_manager --duration "${duration}" --report 60 --warmup 10

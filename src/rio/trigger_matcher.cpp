@@ -8,8 +8,20 @@ void TriggerMatcher::clear() {
   waiting_.clear();
 }
 
+void TriggerMatcher::dropWaiting() {
+  dropped_ += static_cast<long>(waiting_.size());
+  waiting_.clear();
+}
+
 std::vector<RadarFrame> TriggerMatcher::addTrigger(std::uint32_t seq, double stamp) {
-  triggers_[static_cast<long>(seq)] = stamp;
+  const long s = static_cast<long>(seq);
+  if (s < last_trigger_seq_) {  // a new sequence: no stored trigger belongs to it
+    ++trigger_epoch_;
+    triggers_.clear();
+    if (trigger_epoch_ > scan_epoch_) dropWaiting();  // the scans have not restarted yet
+  }
+  last_trigger_seq_ = s;
+  triggers_[s] = stamp;
   while (triggers_.size() > capacity_) triggers_.erase(triggers_.begin());
   std::vector<RadarFrame> ready;
   for (auto it = waiting_.begin(); it != waiting_.end();) {
@@ -27,6 +39,12 @@ std::vector<RadarFrame> TriggerMatcher::addTrigger(std::uint32_t seq, double sta
 
 std::vector<RadarFrame> TriggerMatcher::addScan(std::uint32_t seq, RadarFrame frame) {
   const long s = static_cast<long>(seq);
+  if (s < last_scan_seq_) {  // a new sequence: no waiting scan belongs to it
+    ++scan_epoch_;
+    dropWaiting();
+    if (scan_epoch_ > trigger_epoch_) triggers_.clear();  // the triggers have not restarted yet
+  }
+  last_scan_seq_ = s;
   auto t = triggers_.find(s + seq_offset_);
   if (t != triggers_.end()) {
     frame.t = t->second;

@@ -115,7 +115,10 @@ std::vector<rio::RadarFrame> RioInput::radar(const sensor_msgs::PointCloud2& msg
 }
 
 std::vector<rio::RadarFrame> RioInput::trigger(const std_msgs::Header& msg) {
-  return matcher_.addTrigger(msg.seq, msg.stamp.toSec());
+  const long before = matcher_.dropped();  // a sequence restart drops the old waiting scans
+  std::vector<rio::RadarFrame> out = matcher_.addTrigger(msg.seq, msg.stamp.toSec());
+  counters_.unmatched_scans += matcher_.dropped() - before;
+  return out;
 }
 
 sensor_msgs::PointCloud2 radarFrameToCloud(const rio::RadarFrame& frame,

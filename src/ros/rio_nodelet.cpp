@@ -273,6 +273,12 @@ void RioNodelet::feedRadar(rio::RadarFrame f) {
 }
 
 void RioNodelet::handle(const std::vector<rio::FrameReport>& reports) {
+  if (estimator_->counters().time_jumps != time_jumps_seen_) {
+    // The estimator restarted on a new sequence (time jumped back): so does the path, whose
+    // poses would be of another time line (and would fill up to max_path_length).
+    time_jumps_seen_ = estimator_->counters().time_jumps;
+    path_.poses.clear();
+  }
   for (const rio::FrameReport& r : reports) {
     ++counters_.frames;
     last_status_ = r.status;
@@ -422,6 +428,7 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("bad clouds", ic.bad_clouds);
   stat.add("bad imu messages", ic.bad_imu);
   stat.add("scans without trigger", ic.unmatched_scans);
+  stat.add("trigger sequence restarts", input_->triggerRestarts());
   stat.add("standing frames", c.standing_frames);
   stat.add("callback errors", counters_.errors);
   stat.add("input error", estimator_->inputError());

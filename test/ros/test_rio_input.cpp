@@ -89,6 +89,83 @@ TEST(RioInput, TriggerOfTheSameSequenceNumberGivesTheTime) {
   EXPECT_DOUBLE_EQ(f[0].t, 100.2);
 }
 
+// A bag played in a loop (rosbag play -l) repeats the trigger and scan sequence numbers
+// 40 s earlier. The old sequence's triggers have higher numbers than every new one; kept, they
+// would evict each new trigger on arrival (capacity 64, lowest seq first) and the new scans
+// would never be stamped (the soak of RioNodelet: no odometry after the first loop).
+TEST(RioInput, TriggerSequenceRestartedByALoopingBagStampsTheNewScans) {
+  ra::RioInputConfig cfg;
+  cfg.time_source = "trigger";
+  cfg.trigger_topic = "trigger";
+  ra::RioInput in(cfg);
+  std::string err;
+  auto trigger = [&in](uint32_t seq, double stamp) {
+    std_msgs::Header h;
+    h.seq = seq;
+    h.stamp = ros::Time(stamp);
+    return in.trigger(h);
+  };
+  auto loop = [&](double t0) {  // 412 frames: trigger first, then its scan (the TI timing)
+    long stamped = 0;
+    for (uint32_t seq = 109; seq < 521; ++seq) {
+      const double t = t0 + 0.1 * (seq - 109);
+      EXPECT_TRUE(trigger(seq, t).empty());
+      const std::vector<rio::RadarFrame> f = in.radar(cloud(seq, 0.0, true), &err);
+      if (f.size() == 1u && f[0].t == t) ++stamped;
+    }
+    EXPECT_TRUE(trigger(521, t0 + 41.2).empty());  // the last trigger has no scan
+    return stamped;
+  };
+  EXPECT_EQ(loop(1000.0), 412);
+  EXPECT_EQ(in.triggerRestarts(), 0);
+  EXPECT_EQ(loop(1000.0), 412) << "second loop: every scan stamped with its new trigger";
+  EXPECT_EQ(loop(1000.0), 412);
+  EXPECT_EQ(in.triggerRestarts(), 2);
+  EXPECT_EQ(in.counters().unmatched_scans, 0);
+  EXPECT_EQ(in.waitingScans(), 0);
+}
+
+// The same restart when the new sequence's first scans arrive before its first trigger: they
+// wait for the new triggers, not take the stamps of the old sequence's (same numbers); old
+// scans still waiting at the restart are dropped and counted.
+TEST(RioInput, ScansOfANewSequenceBeforeItsTriggersWaitForThem) {
+  ra::RioInputConfig cfg;
+  cfg.time_source = "trigger";
+  cfg.trigger_topic = "trigger";
+  ra::RioInput in(cfg);
+  std::string err;
+  auto trigger = [&in](uint32_t seq, double stamp) {
+    std_msgs::Header h;
+    h.seq = seq;
+    h.stamp = ros::Time(stamp);
+    return in.trigger(h);
+  };
+  for (uint32_t seq = 10; seq < 20; ++seq) {
+    trigger(seq, 100.0 + seq);
+    ASSERT_EQ(in.radar(cloud(seq, 0.0, true), &err).size(), 1u);
+  }
+  EXPECT_TRUE(in.radar(cloud(20, 0.0, true), &err).empty());  // waits for trigger 20
+  // Restart: scans 10, 11 first (trigger 10 and 11 of the old sequence are still stored).
+  EXPECT_TRUE(in.radar(cloud(10, 0.0, true), &err).empty());
+  EXPECT_EQ(in.counters().unmatched_scans, 1);  // old scan 20 dropped
+  EXPECT_TRUE(in.radar(cloud(11, 0.0, true), &err).empty());
+  EXPECT_EQ(in.waitingScans(), 2);
+  std::vector<rio::RadarFrame> f = trigger(10, 50.0);  // the new sequence's triggers
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].t, 50.0);
+  f = trigger(11, 50.1);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].t, 50.1);
+  EXPECT_EQ(in.triggerRestarts(), 1);
+  EXPECT_EQ(in.waitingScans(), 0);
+  // Then trigger first again.
+  trigger(12, 50.2);
+  f = in.radar(cloud(12, 0.0, true), &err);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].t, 50.2);
+  EXPECT_EQ(in.counters().unmatched_scans, 1);
+}
+
 namespace {
 
 // The ros group of a rio config file given as YAML text.

@@ -75,6 +75,8 @@ class RioInput {
   bool usesTrigger() const { return cfg_.time_source == "trigger"; }
   const RioInputCounters& counters() const { return counters_; }
   long waitingScans() const { return static_cast<long>(matcher_.waiting()); }
+  // Trigger sequence restarts (seq back: a looping bag, a restarted driver; TriggerMatcher).
+  long triggerRestarts() const { return matcher_.restarts(); }
   void reset() { matcher_.clear(); }
 
  private:

@@ -98,7 +98,8 @@ class RioNodelet : public nodelet::Nodelet {
   double heap_release_interval_ = 10.0;          // [s] steady; 0 = off
   ros_adapters::HeapReleaseTimer heap_release_;  // radar callback only (under mutex_)
   rio::FrameStatus last_status_ = rio::FrameStatus::kInitializing;
-  nav_msgs::Path path_;
+  nav_msgs::Path path_;  // emptied when the estimator restarts on a time jump back
+  long time_jumps_seen_ = 0;
 
   ros::Subscriber imu_sub_, radar_sub_, trigger_sub_, baro_sub_;
   ros::Publisher odom_pub_, path_pub_, landmarks_pub_, stamped_pub_;
