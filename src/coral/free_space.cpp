@@ -46,11 +46,11 @@ class RangeImage {
 
   // Whether p (this scan's frame) lies >= margin in front of the nearest return of its bin
   // and the neighbouring bins; false in *tested when any of them saw nothing. *bin: p's
-  // bin (el * azimuthBins() + az), *range: its distance from the sensor.
-  bool inFreeSpace(const Vec3& p, double margin, bool* tested, int* bin, double* range) const {
+  // bin (el * azimuthBins() + az).
+  bool inFreeSpace(const Vec3& p, double margin, bool* tested, int* bin) const {
     *tested = false;
     int az, el;
-    double& r = *range;
+    double r;
     if (!locate(p, &az, &el, &r)) return false;
     *bin = el * n_az_ + az;
     float nearest = std::numeric_limits<float>::infinity();
@@ -176,9 +176,8 @@ void countConflicts(const RangeImage& view, const Points& other, const Eigen::Is
   for (const Vec3& q : other) {
     bool t = false;
     int bin = 0;
-    double range = 0.0;
     const Vec3 p = T * q;
-    if (view.inFreeSpace(p, cfg.margin, &t, &bin, &range)) found.push_back({bin, p});
+    if (view.inFreeSpace(p, cfg.margin, &t, &bin)) found.push_back({bin, p});
     *tested += t;
   }
   *conflicts =

@@ -171,19 +171,20 @@ std::string relationsPath(const std::string& log_path) {
   return rel + ".relations";
 }
 
+int logLineAt(const std::vector<CarmenLaserScan>& log, double stamp) {
+  const auto it = std::lower_bound(log.begin(), log.end(), stamp - 1e-4,
+                                   [](const CarmenLaserScan& l, double t) { return l.stamp < t; });
+  return static_cast<int>(it - log.begin());
+}
+
 bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,
                        const LaserGeometry& geometry, int min_lines,
                        std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,
                        std::string* error) {
   std::vector<Relation> relations, loops;
   if (!readRelations(relations_path, &relations, error)) return false;
-  std::vector<double> stamps;  // log order is time order
-  for (const CarmenLaserScan& l : log) stamps.push_back(l.stamp);
-  auto line = [&](double t) {
-    return std::lower_bound(stamps.begin(), stamps.end(), t - 1e-4) - stamps.begin();
-  };
   for (const Relation& r : relations)
-    if (std::abs(line(r.t1) - line(r.t2)) > min_lines) loops.push_back(r);
+    if (std::abs(logLineAt(log, r.t1) - logLineAt(log, r.t2)) > min_lines) loops.push_back(r);
   int unmatched = 0;
   return relationPairs(log, loops, geometry, scans, pairs, &unmatched, error);
 }

@@ -8,15 +8,14 @@ namespace coral_introspection {
 namespace core {
 
 LogNodes::LogNodes(const std::vector<CarmenLaserScan>& log, const std::vector<int>& raw_index)
-    : log_(log), raw_index_(raw_index) {
-  for (const CarmenLaserScan& l : log) stamps_.push_back(l.stamp);  // log order = time order
-}
+    : log_(log), raw_index_(raw_index) {}
 
 bool LogNodes::attach(double stamp, int max_lines, int* node,
                       Eigen::Isometry3d* T_node_scan) const {
-  const auto it = std::lower_bound(stamps_.begin(), stamps_.end(), stamp - 1e-4);
-  if (it == stamps_.end() || std::abs(*it - stamp) > 1e-4 || raw_index_.empty()) return false;
-  const int line = static_cast<int>(it - stamps_.begin());
+  const int line = logLineAt(log_, stamp);
+  if (line == static_cast<int>(log_.size()) || std::abs(log_[line].stamp - stamp) > 1e-4 ||
+      raw_index_.empty())
+    return false;
   const auto n = std::lower_bound(raw_index_.begin(), raw_index_.end(), line);
   int k = static_cast<int>(n - raw_index_.begin());
   if (k == static_cast<int>(raw_index_.size()) ||

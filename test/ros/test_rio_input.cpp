@@ -29,6 +29,22 @@ sensor_msgs::PointCloud2 cloud(uint32_t seq, double stamp, bool with_velocity) {
   return c;
 }
 
+// Scans timed by a trigger topic (the TI bag's layout).
+ra::RioInputConfig triggerTimed() {
+  ra::RioInputConfig cfg;
+  cfg.time_source = "trigger";
+  cfg.trigger_topic = "trigger";
+  return cfg;
+}
+
+// The trigger message with this sequence number and stamp, given to `in`.
+std::vector<rio::RadarFrame> sendTrigger(ra::RioInput* in, uint32_t seq, double stamp) {
+  std_msgs::Header h;
+  h.seq = seq;
+  h.stamp = ros::Time(stamp);
+  return in->trigger(h);
+}
+
 }  // namespace
 
 TEST(RioInput, ReadsPointsAndRadialVelocityWithHeaderTime) {
@@ -94,17 +110,9 @@ TEST(RioInput, TriggerOfTheSameSequenceNumberGivesTheTime) {
 // would evict each new trigger on arrival (capacity 64, lowest seq first) and the new scans
 // would never be stamped (the soak of RioNodelet: no odometry after the first loop).
 TEST(RioInput, TriggerSequenceRestartedByALoopingBagStampsTheNewScans) {
-  ra::RioInputConfig cfg;
-  cfg.time_source = "trigger";
-  cfg.trigger_topic = "trigger";
-  ra::RioInput in(cfg);
+  ra::RioInput in(triggerTimed());
   std::string err;
-  auto trigger = [&in](uint32_t seq, double stamp) {
-    std_msgs::Header h;
-    h.seq = seq;
-    h.stamp = ros::Time(stamp);
-    return in.trigger(h);
-  };
+  auto trigger = [&in](uint32_t seq, double stamp) { return sendTrigger(&in, seq, stamp); };
   auto loop = [&](double t0) {  // 412 frames: trigger first, then its scan (the TI timing)
     long stamped = 0;
     for (uint32_t seq = 109; seq < 521; ++seq) {
@@ -129,17 +137,9 @@ TEST(RioInput, TriggerSequenceRestartedByALoopingBagStampsTheNewScans) {
 // wait for the new triggers, not take the stamps of the old sequence's (same numbers); old
 // scans still waiting at the restart are dropped and counted.
 TEST(RioInput, ScansOfANewSequenceBeforeItsTriggersWaitForThem) {
-  ra::RioInputConfig cfg;
-  cfg.time_source = "trigger";
-  cfg.trigger_topic = "trigger";
-  ra::RioInput in(cfg);
+  ra::RioInput in(triggerTimed());
   std::string err;
-  auto trigger = [&in](uint32_t seq, double stamp) {
-    std_msgs::Header h;
-    h.seq = seq;
-    h.stamp = ros::Time(stamp);
-    return in.trigger(h);
-  };
+  auto trigger = [&in](uint32_t seq, double stamp) { return sendTrigger(&in, seq, stamp); };
   for (uint32_t seq = 10; seq < 20; ++seq) {
     trigger(seq, 100.0 + seq);
     ASSERT_EQ(in.radar(cloud(seq, 0.0, true), &err).size(), 1u);

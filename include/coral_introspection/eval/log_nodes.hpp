@@ -27,7 +27,6 @@ class LogNodes {
  private:
   const std::vector<CarmenLaserScan>& log_;
   std::vector<int> raw_index_;
-  std::vector<double> stamps_;
 };
 
 struct RelationError {
