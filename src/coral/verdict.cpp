@@ -40,6 +40,8 @@ std::string GateConfig::validate() const {
                min_overlap)
       .require(max_free_space >= 0.0 && max_free_space <= 1.0, "max_free_space",
                "in [0, 1], 1 = off", max_free_space)
+      .require(min_constraint >= 0.0, "min_constraint", ">= 0 tolerances^2, 0 = off",
+               min_constraint)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
       .str();
@@ -83,7 +85,9 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
   return r.valid ? sigmoid(10.0 * (cfg.margin - r.score)) : 0.0;
 }
 
-GateTerms gateTerms(const AlignmentVerdict& v) { return {v.coral.overlap, v.free_space}; }
+GateTerms gateTerms(const AlignmentVerdict& v) {
+  return {v.coral.overlap, v.free_space, v.constraint};
+}
 
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
@@ -137,6 +141,12 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
         out->rejected_by = "gate: free-space conflict " + number(terms.free_space.conflict) +
                            " > " + number(gate.max_free_space) +
                            " (points of one scan where the other saw through)";
+      } else if (terms.constraint.valid && terms.constraint.weakest < gate.min_constraint) {
+        out->aligned = false;
+        out->rejected_by = "gate: constraint " + number(terms.constraint.weakest) + " < " +
+                           number(gate.min_constraint) +
+                           " (the shared structure does not pin the pose: a corridor, a short "
+                           "wall)";
       }
       if (!out->aligned) out->probability = std::min(p_rel, classifier.probability);
       break;
@@ -171,9 +181,15 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   if (rel_needed)
     v.relative =
         relativeCheck(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance, cfg.relative);
-  if (cfg.gate.max_free_space < 1.0)  // measured for evaluation (kBoth) too
+  if (cfg.gate.max_free_space < 1.0 || cfg.measure_gate_terms)
     v.free_space = freeSpaceConflict(pair.points(0), pair.origin(0), pair.points(1), pair.origin(1),
                                      T_a_b, coral.dimension, cfg.free_space);
+  if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms) {
+    Points b_in_a;
+    b_in_a.reserve(pair.points(1).size());
+    for (const Vec3& p : pair.points(1)) b_in_a.push_back(T_a_b * p);
+    v.constraint = registrationConstraint(pair.points(0), b_in_a, coral, cfg.tolerance);
+  }
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }

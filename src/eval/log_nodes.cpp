@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "coral_introspection/eval/pose_graph.hpp"
+
 namespace coral_introspection {
 namespace core {
 
@@ -56,6 +58,34 @@ RelationError relationError(const LogNodes& nodes, const Isometries& T_world_nod
     e.rotation_sq /= e.n;
   }
   return e;
+}
+
+bool relationGraph(const LogNodes& nodes, const Isometries& T_world_odom,
+                   const std::vector<Relation>& relations, int max_lines, Isometries* poses,
+                   RelationGraphFigures* figures, std::string* error) {
+  figures->corrected = relationError(nodes, *poses, relations, max_lines);
+  std::vector<PoseGraphEdge> edges = odometryEdges(T_world_odom, 0.1, 0.03);
+  for (const Relation& r : relations) {
+    int k1, k2;
+    Eigen::Isometry3d A1, A2;
+    if (!nodes.attach(r.t1, max_lines, &k1, &A1) || !nodes.attach(r.t2, max_lines, &k2, &A2) ||
+        k1 == k2)
+      continue;
+    edges.push_back({k1, k2, A1 * r.T_1_2 * A2.inverse(), 0.05, 0.01, true});
+    ++figures->edges;
+  }
+  PoseGraphConfig cfg;
+  cfg.dimension = 2;
+  cfg.huber_loss = 1.0;
+  cfg.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
+  *poses = T_world_odom;
+  PoseGraphResult res;
+  if (!optimizePoseGraph(edges, cfg, poses, &res)) {
+    if (error) *error = "relation graph: " + res.error;
+    return false;
+  }
+  figures->own = relationError(nodes, *poses, relations, max_lines);
+  return true;
 }
 
 }  // namespace core

@@ -129,6 +129,67 @@ void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_i
   c->T_a_b.linear() = Eigen::Quaterniond(c->T_a_b.linear()).normalized().toRotationMatrix();
 }
 
+namespace {
+
+// Labels c against the relative pose T_ref: true within the tolerance, false at
+// false_multiple tolerances or more; returns whether to keep it (not in the band between,
+// unless keep_ambiguous).
+bool labelCandidate(const Eigen::Isometry3d& T_ref, const LoopCandidateConfig& cfg,
+                    LoopCandidate* c) {
+  relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
+  const ToleranceConfig& t = cfg.tolerance;
+  c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
+  const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
+                        c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
+  return c->is_true || is_false || cfg.keep_ambiguous;
+}
+
+// x, y offset and yaw [deg] as a planar transform.
+Eigen::Isometry3d planarOffset(double x, double y, double yaw_deg) {
+  Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
+  d.translation() << x, y, 0.0;
+  d.linear() =
+      Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return d;
+}
+
+}  // namespace
+
+// Two registrations of one pair ending within this many metres and degrees reached the same
+// optimum.
+constexpr double kSameMetres = 0.05, kSameDegrees = 0.5;
+
+bool relationRegistrations(const std::vector<TrainingScan>& scans,
+                           const std::vector<ScanPair>& pairs, const LoopCandidateConfig& cfg,
+                           std::vector<LoopCandidate>* out, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+  if (cfg.init_offset < 0.0) return fail(error, "relation registrations need init_offset >= 0");
+  out->clear();
+  const double o = cfg.init_offset, y = cfg.init_offset_deg;
+  const Eigen::Isometry3d offsets[4] = {planarOffset(o, 0, y), planarOffset(-o, 0, -y),
+                                        planarOffset(0, o, -y), planarOffset(0, -o, y)};
+  const std::size_t n = std::min(pairs.size(), static_cast<std::size_t>(cfg.max_radius_candidates));
+  for (std::size_t k = 0; k < n; ++k) {
+    const ScanPair& p = pairs[k * pairs.size() / n];
+    std::vector<Eigen::Isometry3d> results;  // of this pair: a result reached twice counts once
+    for (const Eigen::Isometry3d& d : offsets) {
+      LoopCandidate c;
+      c.a = p.a;
+      c.b = p.b;
+      c.source = "relation_icp";
+      registerPair(scans[p.a].scan.points, scans[p.b].scan.points, p.T_a_b * d, cfg, &c);
+      const bool seen = std::any_of(results.begin(), results.end(), [&](const auto& T) {
+        double t, r;
+        relativeError(c.T_a_b, T, &t, &r);
+        return t < kSameMetres && r < kSameDegrees;
+      });
+      results.push_back(c.T_a_b);
+      if (!seen && labelCandidate(p.T_a_b, cfg, &c)) out->push_back(c);
+    }
+  }
+  return true;
+}
+
 bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometries& T_world_ref,
                          const Isometries& T_world_odom, const LoopCandidateConfig& cfg,
                          std::vector<LoopCandidate>* out, std::string* error) {
@@ -142,14 +203,8 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometrie
   };
   auto dist = [&](int i, int j) { return distIn(T_world_ref, i, j); };
   const Isometries& proposal = cfg.propose_by_odometry ? T_world_odom : T_world_ref;
-  auto label = [&](LoopCandidate* c) {
-    const Eigen::Isometry3d T_ref = T_world_ref[c->a].inverse() * T_world_ref[c->b];
-    relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
-    const ToleranceConfig& t = cfg.tolerance;
-    c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
-    const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
-                          c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
-    return c->is_true || is_false || cfg.keep_ambiguous;  // drop the ambiguous band
+  auto label = [&](LoopCandidate* c) {  // drops the ambiguous band
+    return labelCandidate(T_world_ref[c->a].inverse() * T_world_ref[c->b], cfg, c);
   };
   // (a) revisits within the radius, registered from the odometry's relative pose.
   for (const auto& [i, j] :
@@ -160,13 +215,9 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometrie
     c.b = j;
     c.source = "radius";
     Eigen::Isometry3d init = T_world_odom[i].inverse() * T_world_odom[j];
-    if (cfg.init_offset >= 0.0) {
-      Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
-      d.translation().x() = cfg.init_offset;
-      d.linear() = Eigen::AngleAxisd(cfg.init_offset_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
-                       .toRotationMatrix();
-      init = T_world_ref[i].inverse() * T_world_ref[j] * d;
-    }
+    if (cfg.init_offset >= 0.0)
+      init = T_world_ref[i].inverse() * T_world_ref[j] *
+             planarOffset(cfg.init_offset, 0.0, cfg.init_offset_deg);
     registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
     if (label(&c)) out->push_back(c);
   }

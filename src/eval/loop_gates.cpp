@@ -4,9 +4,9 @@ namespace coral_introspection {
 namespace core {
 
 const std::vector<std::string>& loopGateNames() {
-  static const std::vector<std::string> names = {"verdict",      "no_free_space", "relative",
-                                                 "classifier",   "fitness<=0.3",  "fitness<=0.5",
-                                                 "fitness<=2.5", "oracle",        "all"};
+  static const std::vector<std::string> names = {
+      "verdict",      "no_free_space", "no_constraint", "relative", "classifier",
+      "fitness<=0.3", "fitness<=0.5",  "fitness<=2.5",  "oracle",   "all"};
   return names;
 }
 
@@ -17,9 +17,10 @@ bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
   if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
   if (!v_both.valid) return false;  // no CorAl verdict (no overlap): every CorAl gate rejects
   AlignmentVerdict v = v_both;
-  if (gate == "verdict" || gate == "no_free_space") {
+  if (gate == "verdict" || gate == "no_free_space" || gate == "no_constraint") {
     VerdictConfig loop = loopClosureVerdict(cfg);
     if (gate == "no_free_space") loop.gate.max_free_space = 1.0;
+    if (gate == "no_constraint") loop.gate.min_constraint = 0.0;
     // v_both's relative decision used the stream's margin: decide again with the loop's.
     v.relative.misaligned = exceedsMargin(v.relative, loop.relative);
     combineVerdict(loop.method, v.classifier, v.relative, loop.relative, &v, loop.gate,

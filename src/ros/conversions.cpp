@@ -266,6 +266,7 @@ AlignmentQuality toMessage(const core::AlignmentVerdict& v, const core::VerdictC
   m.tolerance_rotation = cfg.tolerance.rotation_deg;
   m.relative_score = v.relative.valid ? v.relative.score : std::nan("");
   m.free_space_conflict = v.free_space.valid ? v.free_space.conflict : std::nan("");
+  m.constraint = v.constraint.valid ? v.constraint.weakest : std::nan("");
   m.correction_hint = v.relative.hint.name;
   m.correction = toTransformMsg(v.relative.hint.name.empty() ? Eigen::Isometry3d::Identity()
                                                              : v.relative.hint.delta);

@@ -205,6 +205,9 @@ int main(int argc, char** argv) {
   if (out.verdict.free_space.valid)
     std::snprintf(fs, sizeof fs, "%.6f", out.verdict.free_space.conflict);
   const std::string free_space = fs;
+  char cs[32] = "null";  // likewise the constraint term
+  if (out.verdict.constraint.valid)
+    std::snprintf(cs, sizeof cs, "%.6f", out.verdict.constraint.weakest);
   std::printf(
       "{\"valid\": %s, \"aligned\": %s, \"probability\": %.6f, \"quality\": %.6f, "
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
@@ -212,13 +215,13 @@ int main(int argc, char** argv) {
       "\"num_queries\": %zu, \"num_non_finite\": %zu, \"num_out_of_range\": %zu, "
       "\"num_thinned\": %zu, \"num_merged\": %zu, \"num_degenerate\": %zu, \"reason\": \"%s\", "
       "\"method\": \"%s\", \"loop_closure\": %s, \"rejected_by\": \"%s\", "
-      "\"free_space_conflict\": %s}\n",
+      "\"free_space_conflict\": %s, \"constraint\": %s}\n",
       r.valid ? "true" : "false", out.verdict.valid && out.verdict.aligned ? "true" : "false",
       out.verdict.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
       r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
       jsonEscape(out.reason).c_str(), core::verdictMethodName(cfg.online.verdict.method),
       loop_closure ? "true" : "false", jsonEscape(out.verdict.rejected_by).c_str(),
-      free_space.c_str());
+      free_space.c_str(), cs);
   return 0;
 }

@@ -12,9 +12,11 @@
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] [--out_dir DIR]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
-// CARMEN: the corrected poses are the reference, the log's raw odometry the odometry; the
-// benchmark relations joining scans more than 30 log lines apart are further true candidates,
-// edges between the graph nodes their raw scans hang off (eval/log_nodes.hpp).
+// CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
+// log's raw odometry the odometry, the reference the graph of the benchmark relations; the
+// relations joining scans more than 30 log lines apart are the revisits, as they are and
+// registered again from a perturbed pose (labelled against the relation), edges between the
+// graph nodes their raw scans hang off (eval/log_nodes.hpp).
 // --rows even|odd: only every other candidate (tuning / held-out halves of the gate table).
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
@@ -26,10 +28,9 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/eval/carmen_log.hpp"
+#include "coral_introspection/eval/carmen_loops.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
-#include "coral_introspection/eval/log_nodes.hpp"
 #include "coral_introspection/eval/loop_gates.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
@@ -97,68 +98,60 @@ int main(int argc, char** argv) {
     return fail(err);  // names the file (and line)
   online::IntrospectorConfig judge_cfg = node.online;
   judge_cfg.verdict.method = core::VerdictMethod::kBoth;  // every term of the verdict
-  // The loop gate as `gate` (loop_gates.hpp); the free-space conflict measured for the CSV
-  // even when the preset's loop gate does not use it (a bound below 1 turns the measurement on).
+  // The loop gate as `gate` (loop_gates.hpp); every gate term measured for the CSV even when
+  // the preset's loop gate does not use it.
   judge_cfg.verdict.gate = verdict.loop_closure;
-  judge_cfg.verdict.gate.max_free_space =
-      std::min(verdict.loop_closure.max_free_space, std::nextafter(1.0, 0.0));
+  judge_cfg.verdict.measure_gate_terms = true;
   const int dim = node.online.coral.dimension;
 
-  std::vector<core::TrainingScan> scans, rel_scans;
-  core::Isometries ref, odom;
+  core::CarmenLoopSet set;  // keyframes: scans, ref, odom and the candidates; CARMEN: all of it
   std::vector<double> stamps;
-  std::vector<core::ScanPair> rel_pairs;
-  std::vector<core::CarmenLaserScan> log;
-  std::vector<int> raw;
-  std::vector<core::Relation> relations;  // all of them: the relation error of each graph
   GraphSettings graph;
+  core::LoopCandidateConfig cand_cfg = core::evaluationCandidates(dim, verdict.tolerance);
+  cand_cfg.registration = registration;
   if (!keyframes.empty()) {
-    if (!core::loadKeyframeSequence(keyframes, core::KeyframeSequenceConfig(), nullptr, &scans,
-                                    &ref, &err) ||
-        !core::readKittiPoses(keyframes + "/odom_poses.txt", &odom, &err))
+    if (!core::loadKeyframeSequence(keyframes, core::KeyframeSequenceConfig(), nullptr, &set.scans,
+                                    &set.ref, &err) ||
+        !core::readKittiPoses(keyframes + "/odom_poses.txt", &set.odom, &err))
       return fail(err);
-    if (odom.size() < scans.size()) return fail("fewer odometry poses than keyframes");
-    odom.resize(scans.size());
+    if (set.odom.size() < set.scans.size()) return fail("fewer odometry poses than keyframes");
+    set.odom.resize(set.scans.size());
+    // 1. Candidates: revisits near the odometry pose and look-alike places.
+    if (!core::buildLoopCandidates(set.scans, set.ref, set.odom, cand_cfg, &set.lookalikes, &err))
+      return fail(err);
   } else {
-    core::LaserGeometry geometry;
-    if (!core::readCarmenLog(carmen, &log, &err) ||
-        !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
-        !core::loopRelationPairs(log, core::relationsPath(carmen), geometry, 30, &rel_scans,
-                                 &rel_pairs, &err) ||
-        !core::readRelations(core::relationsPath(carmen), &relations, &err))
+    // 1. Candidates: the loop relations as they are and registered again, look-alike places.
+    if (!core::loadCarmenLoopSet(carmen, corrected, core::relationsPath(carmen), cand_cfg, 30,
+                                 kAttachLines, &set, &err))
       return fail(err);
     graph.odom_t = 0.1;
     graph.odom_r = 0.03;
+    const core::RelationGraphFigures& f = set.figures;
+    std::printf(
+        "reference: odometry + %d benchmark relations (relation error %.3f m / %.2f deg; the "
+        "corrected poses' %.3f m / %.2f deg; ATE between the two %.3f m)\n",
+        f.edges, f.own.translation, f.own.rotation_deg, f.corrected.translation,
+        f.corrected.rotation_deg, set.ate_reference_corrected);
   }
+  const std::vector<core::TrainingScan>& scans = set.scans;
+  const core::Isometries &ref = set.ref, &odom = set.odom;
   for (const auto& s : scans) stamps.push_back(s.stamp);
 
-  // 1. Candidates, 2. one evaluation each.
-  std::vector<core::LoopCandidate> cands;
-  core::LoopCandidateConfig cand_cfg = core::evaluationCandidates(dim, verdict.tolerance);
-  cand_cfg.registration = registration;
-  if (!core::buildLoopCandidates(scans, ref, odom, cand_cfg, &cands, &err)) return fail(err);
+  // 2. One evaluation each.
   std::vector<Judged> judged;
-  for (const core::LoopCandidate& c : cands)
+  for (const core::LoopCandidate& c : set.lookalikes)
     judged.push_back(
         {c, online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, judge_cfg, false).verdict,
          true, c.a, c.b, c.T_a_b});
-  const core::LogNodes nodes(log, raw);
-  for (const core::ScanPair& p : rel_pairs) {
-    core::LoopCandidate c;
-    c.a = p.a;
-    c.b = p.b;
-    c.source = "relation";
-    c.T_a_b = p.T_a_b;
-    c.is_true = c.converged = true;
-    Judged j{c,
-             online::judgePair(rel_scans[p.a].scan, rel_scans[p.b].scan, p.T_a_b, judge_cfg, false)
-                 .verdict};
+  const core::LogNodes nodes(set.log, set.raw);
+  for (const core::LoopCandidate& c : set.revisits) {
+    const std::vector<core::TrainingScan>& rs = set.rel_scans;
+    Judged j{c, online::judgePair(rs[c.a].scan, rs[c.b].scan, c.T_a_b, judge_cfg, false).verdict};
     // An edge between the nodes its scans hang off: T_node_a_a * T_a_b * T_node_b_b^-1.
     Eigen::Isometry3d A, B;
-    j.in_graph = nodes.attach(rel_scans[p.a].stamp, kAttachLines, &j.node_a, &A) &&
-                 nodes.attach(rel_scans[p.b].stamp, kAttachLines, &j.node_b, &B) &&
-                 j.node_a != j.node_b;
-    if (j.in_graph) j.T_edge = A * p.T_a_b * B.inverse();
+    j.in_graph = nodes.attach(rs[c.a].stamp, kAttachLines, &j.node_a, &A) &&
+                 nodes.attach(rs[c.b].stamp, kAttachLines, &j.node_b, &B) && j.node_a != j.node_b;
+    if (j.in_graph) j.T_edge = A * c.T_a_b * B.inverse();
     judged.push_back(j);
   }
   std::vector<const Judged*> table;  // the rows of the gate table
@@ -169,7 +162,8 @@ int main(int argc, char** argv) {
     std::ofstream out(out_path);
     if (!out) return fail("cannot write " + out_path);
     out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
-           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space\n";
+           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
+           "constraint\n";
     for (const Judged* j : table) {
       const core::LoopCandidate& c = j->c;
       const core::AlignmentVerdict& v = j->v;
@@ -178,7 +172,8 @@ int main(int argc, char** argv) {
           << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
           << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
           << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
-          << v.relative.flat_axes.size() << ',' << v.free_space.conflict << "\n";
+          << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ','
+          << v.constraint.weakest << "\n";
     }
   }
 
@@ -198,14 +193,14 @@ int main(int argc, char** argv) {
   // CARMEN: the benchmark's relation error of the graph too (every relation of the log, loop
   // relations included: they are edges of the graphs whose gate accepts them).
   auto relErr = [&](const core::Isometries& poses) {
-    if (relations.empty()) return std::string();
-    const core::RelationError e = core::relationError(nodes, poses, relations, kAttachLines);
+    if (set.relations.empty()) return std::string();
+    const core::RelationError e = core::relationError(nodes, poses, set.relations, kAttachLines);
     char buf[64];
     std::snprintf(buf, sizeof buf, " %9.3f %8.2f", e.translation, e.rotation_deg);
     return std::string(buf);
   };
   std::printf("%-14s %14s %14s %10s %10s%s\n", "gate", "true accepted", "false accepted", "ATE [m]",
-              "edges", relations.empty() ? "" : "  rel [m]  rel [deg]");
+              "edges", set.relations.empty() ? "" : "  rel [m]  rel [deg]");
   std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
               relErr(odom).c_str());
   for (const std::string& gate : core::loopGateNames()) {

@@ -356,6 +356,19 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
   EXPECT_DOUBLE_EQ(mf.free_space_conflict, 0.25);
   EXPECT_NE(mf.rejected_by.find("free-space conflict 0.25 > 0.1"), std::string::npos)
       << mf.rejected_by;
+  EXPECT_TRUE(std::isnan(mf.constraint));  // not measured
+
+  // Free space passing, the constraint term below its bound: rejected by it, value carried.
+  gated.gate.min_constraint = 0.3;
+  fs.free_space.conflict = 0.05;
+  fs.constraint.valid = true;
+  fs.constraint.weakest = 0.02;
+  core::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
+                       core::gateTerms(fs));
+  const auto mc = ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
+  EXPECT_FALSE(mc.aligned);
+  EXPECT_DOUBLE_EQ(mc.constraint, 0.02);
+  EXPECT_NE(mc.rejected_by.find("constraint 0.02 < 0.3"), std::string::npos) << mc.rejected_by;
 
   core::AlignmentVerdict none;  // CorAl valid, no valid neighbour: no verdict
   none.coral.valid = true;

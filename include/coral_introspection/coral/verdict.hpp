@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/constraint.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/free_space.hpp"
@@ -43,6 +44,12 @@ struct GateConfig {
   // (corridors, repeated rooms) that registration fitted together satisfy Q locally; their
   // corridor ends, doors and side openings fall into each other's free space.
   double max_free_space = 1.0;
+  // [tolerances^2] how firmly the shared structure pins the pose (constraint.hpp: in effect,
+  // how many shared surface points move by a full tolerance under the weakest one-tolerance
+  // error) must reach this; 0 = off. Two scans that share only a corridor's walls or a short
+  // piece of wall are consistent at many poses: a registration that stopped at the wrong one
+  // passes CorAl, the classifier and the free-space term alike.
+  double min_constraint = 0.0;
   // [-] loop closures only (loopClosureVerdict): the relative check's margin for these pairs;
   // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
@@ -61,7 +68,10 @@ struct VerdictConfig {
   // verdict with this gate: true revisits look less alike than consecutive scans (viewpoint,
   // time), false ones are local optima of registration (doc/loop_closure.md).
   GateConfig loop_closure;
-  FreeSpaceConfig free_space;    // the check behind max_free_space (either gate)
+  FreeSpaceConfig free_space;  // the check behind max_free_space (either gate)
+  // Measure the free-space and constraint terms even when `gate` does not use them
+  // (evaluation: every term of every pair, coral_loop_eval); never changes a verdict.
+  bool measure_gate_terms = false;
   std::string validate() const;  // empty when valid
 };
 
@@ -74,6 +84,8 @@ struct AlignmentVerdict {
   RelativeCheckResult relative;  // filled by kRelative / kBoth
   // Measured when gate.max_free_space < 1 (whatever the method); invalid otherwise.
   FreeSpaceResult free_space;
+  // Measured when gate.min_constraint > 0 (whatever the method); invalid otherwise.
+  ConstraintResult constraint;
   bool valid = false;    // a verdict was reached
   bool aligned = false;  // not misaligned by the tolerance or more
   // Classifier p (Eq. 9); relative: relativeProbability(); both: the smaller of the two.
@@ -90,10 +102,11 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 
 // The absolute terms the gate reads besides the classifier's p, measured at the pose.
 struct GateTerms {
-  double overlap = 1.0;        // CorAl's overlap fraction
-  FreeSpaceResult free_space;  // invalid = not measured (never rejects)
+  double overlap = 1.0;         // CorAl's overlap fraction
+  FreeSpaceResult free_space;   // invalid = not measured (never rejects)
+  ConstraintResult constraint;  // invalid = not measured (never rejects)
 };
-GateTerms gateTerms(const AlignmentVerdict& v);  // {v.coral.overlap, v.free_space}
+GateTerms gateTerms(const AlignmentVerdict& v);  // {v.coral.overlap, v.free_space, v.constraint}
 
 // Combines the opinions as `method` says (used by judgeAlignment and by evaluation); the
 // gate (kGated) reads the classifier's p and `terms`.

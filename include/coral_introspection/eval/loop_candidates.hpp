@@ -83,6 +83,19 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometrie
                          const Isometries& T_world_odom, const LoopCandidateConfig& cfg,
                          std::vector<LoopCandidate>* out, std::string* error);
 
+// Revisits with exact labels (CARMEN logs): every known relative pose of `pairs` (the
+// benchmark relations joining scans far apart in time) registered again from that pose
+// moved by cfg.init_offset [m] along +x, -x, +y, -y with +-cfg.init_offset_deg of yaw (a
+// back end's drifted guess), so that registration ends on the revisit or on a wrong local
+// optimum near it; each result is labelled against the relation itself, not against a
+// trajectory estimate (the logs' corrected poses disagree with the relations by decimetres
+// in places, more than the tolerance's share). Source "relation_icp"; a, b index `scans`.
+// At most cfg.max_radius_candidates pairs are used, spread evenly; the ambiguous band is
+// dropped as in buildLoopCandidates. False with *error on an invalid config.
+bool relationRegistrations(const std::vector<TrainingScan>& scans,
+                           const std::vector<ScanPair>& pairs, const LoopCandidateConfig& cfg,
+                           std::vector<LoopCandidate>* out, std::string* error);
+
 // Error of T_a_b against the reference T_ref: translation [m], rotation [deg].
 void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
                    double* r_deg);

@@ -1,9 +1,10 @@
 // The gates a SLAM back end can put between "a registered loop candidate" and "add the
 // edge" (doc/loop_closure.md), decided from one CorAl evaluation of the candidate
 // (judged with method `both`, so the classifier and the relative check are both filled, and
-// with the loop gate as `gate`, so the free-space conflict is measured when it uses it):
+// with every gate term measured, VerdictConfig::measure_gate_terms):
 //   verdict      core::loopClosureVerdict: relative check + the loop gate (this package)
 //   no_free_space  the same without the gate's free-space term (what that term adds)
+//   no_constraint  the same without the gate's constraint term (what that term adds)
 //   relative     the relative check alone (the previous default)
 //   classifier   the classifier alone at its threshold
 //   fitness<=X   PCL's ICP fitness score at thresholds ROS SLAM packages ship: LIO-SAM 0.3,

@@ -1,0 +1,116 @@
+// The constraint term (coral/constraint.hpp) on point sets whose answer is known: a square
+// room pins every direction by about one wall pair's points; a corridor without ends pins
+// nothing along it (0); its end wall pins that direction by about that wall's points;
+// nothing shared gives 0; the value does not depend on the frame. Then the gated verdict: a
+// corridor slid 1.5 m along itself passes CorAl's relative check (Q is flat there) and is
+// rejected by this term, which names itself.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "coral_introspection/coral/constraint.hpp"
+#include "coral_introspection/coral/verdict.hpp"
+
+using namespace coral_introspection::core;
+
+namespace {
+
+constexpr double kStep = 0.05;  // [m] point spacing along a wall
+
+// Points every kStep from p to q (both ends included), z = 0.
+void wall(double x0, double y0, double x1, double y1, Points* out) {
+  const Vec3 p(x0, y0, 0.0), q(x1, y1, 0.0);
+  const int n = static_cast<int>(std::lround((q - p).norm() / kStep));
+  for (int i = 0; i <= n; ++i) out->push_back(p + (q - p) * (static_cast<double>(i) / n));
+}
+
+// radius 0.5 m as lidar_2d; 0.52: no neighbour exactly at the radius (a multiple of kStep),
+// where rounding after a rigid motion would decide.
+CoralConfig planar(double radius = 0.5) {
+  CoralConfig c;
+  c.dimension = 2;
+  c.radius = radius;
+  return c;
+}
+
+ToleranceConfig tolerance2d() { return ToleranceConfig::lidar2d(); }  // 0.3 m, 5 deg
+
+Points transformed(const Points& pts, const Eigen::Isometry3d& T) {
+  Points out;
+  for (const Vec3& p : pts) out.push_back(T * p);
+  return out;
+}
+
+}  // namespace
+
+TEST(Constraint, SquareRoomIsPinnedByAWallPairInEveryDirection) {
+  Points room;  // 10 m x 10 m: 201 points per wall
+  wall(-5, -5, 5, -5, &room);
+  wall(5, -5, 5, 5, &room);
+  wall(5, 5, -5, 5, &room);
+  wall(-5, 5, -5, -5, &room);
+  const ConstraintResult r = registrationConstraint(room, room, planar(), tolerance2d());
+  ASSERT_TRUE(r.valid);
+  // Translation along x: the two walls of normal x, 2 x 201 points of weight 1, less the
+  // corners (points within 0.5 m of a corner see both walls: weight < 1). Rotation about the
+  // centre: 4 walls x sum of (along-wall offset)^2 x k^2, k = 5 deg / 0.3 m, about 570: more.
+  EXPECT_GT(r.weakest, 0.9 * 402);
+  EXPECT_LE(r.weakest, 402 + 1e-9);
+  EXPECT_EQ(r.points, 2 * static_cast<int>(room.size()));
+}
+
+TEST(Constraint, CorridorWithoutEndsPinsNothingAlongItAndItsEndWallDoes) {
+  Points corridor;  // 2 m wide, 40 m long
+  wall(-20, -1, 20, -1, &corridor);
+  wall(-20, 1, 20, 1, &corridor);
+  const ConstraintResult open = registrationConstraint(corridor, corridor, planar(), tolerance2d());
+  EXPECT_LT(open.weakest, 1e-6);  // every normal is +-y: x is free
+  Points closed = corridor;
+  wall(20, -1, 20, 1, &closed);  // the end wall: 41 points of normal x
+  const ConstraintResult end = registrationConstraint(closed, closed, planar(), tolerance2d());
+  EXPECT_GT(end.weakest, 20.0);  // its points away from the corners pin x
+  EXPECT_LE(end.weakest, 41.0 + 1e-9);
+}
+
+TEST(Constraint, NothingSharedIsZeroAndTheFrameDoesNotMatter) {
+  Points room;
+  wall(0, 0, 4, 0, &room);
+  wall(4, 0, 4, 3, &room);
+  wall(4, 3, 0, 3, &room);
+  const Points far = transformed(room, se2(50.0, 0.0, 0.0));
+  const ConstraintResult none = registrationConstraint(room, far, planar(), tolerance2d());
+  EXPECT_TRUE(none.valid);
+  EXPECT_EQ(none.points, 0);
+  EXPECT_EQ(none.weakest, 0.0);
+  const ConstraintResult here = registrationConstraint(room, room, planar(0.52), tolerance2d());
+  const Eigen::Isometry3d T = se2(3.0, -7.0, 0.6);
+  const ConstraintResult moved = registrationConstraint(transformed(room, T), transformed(room, T),
+                                                        planar(0.52), tolerance2d());
+  EXPECT_GT(here.weakest, 1.0);
+  EXPECT_NEAR(moved.weakest, here.weakest, 1e-6 * here.weakest);
+}
+
+TEST(Constraint, GatedVerdictRejectsACorridorSlidAlongItselfAndSaysWhy) {
+  Scan a;  // a 60 m corridor seen from its middle; b is the same corridor from 1.5 m further
+  wall(-30, -1, 30, -1, &a.points);
+  wall(-30, 1, 30, 1, &a.points);
+  Scan b;
+  b.points = transformed(a.points, se2(-1.5, 0.0, 0.0));  // b's frame: 1.5 m along x
+  // Judged at the identity: off by 1.5 m (5 tolerances) along the corridor.
+  VerdictConfig cfg;
+  cfg.method = VerdictMethod::kGated;
+  cfg.tolerance = tolerance2d();
+  cfg.gate.min_constraint = 0.3;
+  const CoralConfig coral = planar();
+  const AlignmentVerdict v = judgeAlignment(a, b, Eigen::Isometry3d::Identity(), coral, cfg);
+  ASSERT_TRUE(v.valid);
+  EXPECT_FALSE(v.relative.misaligned);  // Q is flat along the corridor: CorAl cannot tell
+  EXPECT_FALSE(v.aligned);
+  EXPECT_NE(v.rejected_by.find("gate: constraint"), std::string::npos) << v.rejected_by;
+  EXPECT_LT(v.constraint.weakest, 0.3);
+  cfg.gate.min_constraint = 0.0;  // without the term the slid corridor is "aligned"
+  const AlignmentVerdict off = judgeAlignment(a, b, Eigen::Isometry3d::Identity(), coral, cfg);
+  EXPECT_TRUE(off.valid && off.aligned);
+  EXPECT_FALSE(off.constraint.valid);  // not measured when its gate is off
+}
