@@ -19,12 +19,12 @@
 #include "coral_introspection/CheckAlignment.h"
 #include "coral_introspection/CoralConfig.h"
 #include "coral_introspection/online/mailbox.hpp"
-#include "coral_introspection/ros/check_alignment.hpp"
-#include "coral_introspection/ros/diagnostics.hpp"
+#include "coral_introspection/ros/coral_check_alignment.hpp"
+#include "coral_introspection/ros/coral_diagnostics.hpp"
 #include "coral_introspection/ros/guarded.hpp"
 #include "coral_introspection/ros/heap_release.hpp"
-#include "coral_introspection/ros/outputs.hpp"
-#include "coral_introspection/ros/scan_source.hpp"
+#include "coral_introspection/ros/coral_outputs.hpp"
+#include "coral_introspection/ros/coral_scan_source.hpp"
 
 namespace coral_introspection {
 

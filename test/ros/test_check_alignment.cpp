@@ -8,7 +8,7 @@
 
 #include <cstdlib>
 
-#include "coral_introspection/ros/check_alignment.hpp"
+#include "coral_introspection/ros/coral_check_alignment.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 
 using namespace coral_introspection;

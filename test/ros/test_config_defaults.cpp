@@ -15,7 +15,7 @@
 #include <set>
 #include <sstream>
 
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 
 using namespace coral_introspection;
 using ros_adapters::NodeConfig;

@@ -1,7 +1,7 @@
 // Parameter loading and validation of CoralNodelet (no ROS master: XmlRpc trees).
 #include <gtest/gtest.h>
 
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 
 using namespace coral_introspection;
 using XmlRpc::XmlRpcValue;

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/ros/diagnostics.hpp"
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_diagnostics.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 
 using namespace coral_introspection::ros_adapters;
 

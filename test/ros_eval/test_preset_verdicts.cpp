@@ -6,7 +6,7 @@
 // 24-35 s). Where it does not hold (ACES corridors), each pair is classed by what CorAl
 // itself shows at ground truth (doc/verdict_pairs.md): the test asserts that every pair of
 // the clear class is right and bounds the documented exceptions.
-// CORAL_VERDICT_PAIR_STRIDE=N (scripts/test_sanitizers.sh) judges every N-th pair of each
+// CORAL_VERDICT_PAIR_STRIDE=N (scripts/ci/test_sanitizers.sh) judges every N-th pair of each
 // data set only: the sanitizer build is ~55x slower; the counts measured on all pairs are
 // then replaced by what must hold for any subset (every pair right, every clear pair right).
 #include <gtest/gtest.h>

@@ -27,7 +27,7 @@
 #include "coral_introspection/eval/keyframe_sequence.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros/conversions.hpp"
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
 #include "coral_rostest_utils.hpp"
 #include "rostest_main.hpp"
