@@ -112,12 +112,16 @@ def tokens(text):
 
 def qualify_unqualified(path, text, table, own, targets, log):
     """Prefix uses of names of the folders `targets` (not `own`) with their namespace."""
+    # names the file defines itself (a lambda `auto fail = ...`, a local function): left alone
+    local = set(re.findall(r'\bauto\s+(\w+)\s*=', text))
+    local |= set(re.findall(r'^(?:static\s+|inline\s+)*[\w:<>,]+[\s*&]+(\w+)\s*\([^;]*$',
+                            text, re.M))
     toks = tokens(text)
     sig = [i for i, t in enumerate(toks) if t[0] in ('ident', 'punct')]
     edits = []
     for n, i in enumerate(sig):
         kind, val, pos = toks[i]
-        if kind != 'ident' or table.get(val) not in targets:
+        if kind != 'ident' or table.get(val) not in targets or val in local:
             continue
         prev = toks[sig[n - 1]][1] if n > 0 else ''
         nxt = toks[sig[n + 1]][1] if n + 1 < len(sig) else ''

@@ -6,10 +6,8 @@
 # e.g. scripts/bench/stream_bench.sh -- --cloud ../shared/data/view_of_delft_example/lidar/training/velodyne/00549.bin --rate 10 --duration 60
 # Expects a built workspace (coral_build). Everything it starts is stopped on exit.
 set -euo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/../env.sh"
-set +u
-source "${CORAL_WS}/devel/setup.bash"
-set -u
+# shellcheck source-path=SCRIPTDIR source=../ros_session.sh
+source "$(dirname "${BASH_SOURCE[0]}")/../ros_session.sh"
 port=11311
 config="${CORAL_REPO}/config/lidar_3d.yaml"
 params=()
@@ -22,16 +20,9 @@ while [ $# -gt 0 ]; do
     *) echo "unknown argument $1 (bench arguments go after --)" >&2; exit 2 ;;
   esac
 done
-export ROS_MASTER_URI="http://localhost:${port}"
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; wait 2>/dev/null || true; }
-trap cleanup EXIT
-roscore -p "${port}" >/dev/null 2>&1 &
-pids+=($!)
-until rosparam list >/dev/null 2>&1; do sleep 0.2; done
+session_roscore "${port}"
 for p in "${params[@]}"; do rosparam set "/coral/${p%%:=*}" "${p#*:=}"; done
-roslaunch -p "${port}" coral_introspection coral.launch config:="${config}" scan:=/scan \
-  fixed_frame:=odom output:=log >/dev/null 2>&1 &
-pids+=($!)
+session_bg roslaunch -p "${port}" coral_introspection coral.launch config:="${config}" scan:=/scan \
+  fixed_frame:=odom output:=log
 rosrun coral_introspection coral_stream_bench --topic /scan --alignment /alignment \
   --pid-of /coral_manager "$@"

@@ -18,7 +18,7 @@ fi
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
   mapfile -t files < <(git ls-files '*.cpp' '*.hpp' '*.h')
 else
-  mapfile -t files < <(find src include test -name '*.cpp' -o -name '*.hpp' -o -name '*.h' | sort)
+  mapfile -t files < <(find src include toolbox test -name '*.cpp' -o -name '*.hpp' -o -name '*.h' | sort)
 fi
 
 bad=()

@@ -76,9 +76,9 @@ if [ -f "${PLUGIN}" ] && [ ${#eval_libs[@]} -eq 2 ]; then
   nm -C --defined-only "${PLUGIN}" 2>/dev/null | awk '{ $1 = ""; $2 = ""; print }' |
     sed 's/^  //' | sort -u >>"${PLUGIN_SYMS}"
   shared="$(sort -u "${PLUGIN_SYMS}" | comm -12 - "${EVAL_SYMS}")"
-  named="$(grep -E 'coral_introspection::(core|ros_adapters)::[A-Za-z_:]*([Nn]dt|[Cc]fear|Roc|roc[A-Z]|[Rr]eport|[Tt]raining|Evaluation|evaluate|OxfordDataset|crossValid)' \
-    "${PLUGIN_SYMS}" | grep -v -e 'ros_adapters::reportStatus(' -e 'core::rocCurve(' -e 'core::RocPoint' \
-      -e 'core::CoralPair::' || true)"
+  named="$(grep -E 'coral_introspection::(coral|radar|eval|ros_adapters|ros_eval)::[A-Za-z_:]*([Nn]dt|[Cc]fear|Roc|roc[A-Z]|[Rr]eport|[Tt]raining|Evaluation|evaluate|OxfordDataset|crossValid)' \
+    "${PLUGIN_SYMS}" | grep -v -e 'ros_adapters::reportStatus(' -e 'coral::rocCurve(' -e 'coral::RocPoint' \
+      -e 'coral::CoralPair::' || true)"
   # (reportStatus: the AlignmentQuality status of an online::Report, the nodelet's own code.
   # The logistic-regression fit and the metrics (auc, rocCurve in the same object file) are
   # coral code since online self-calibration refits the classifier in the nodelet.

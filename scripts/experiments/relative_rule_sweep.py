@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Variants of the relative check's decision (core::decideRelative) on coral_train's verdict
+"""Variants of the relative check's decision (coral::decideRelative) on coral_train's verdict
 samples, chosen on the first half of the pairs and reported on the second half
 (doc/verdict_pairs.md). The baseline row reproduces decideRelative (margin 0.2, flat ratio
 0.1) and test_preset_verdicts' ACES counts. Variants, per axis k with s_k = (Q - min of its

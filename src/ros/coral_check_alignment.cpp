@@ -71,18 +71,18 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
               : convert(req.image_a, "image_a", &sa) && convert(req.image_b, "image_b", &sb)) &&
       toEigen(req.transform_a_b, &T_a_b, &error);
   if (!ok) {
-    res->result = toMessage(core::AlignmentVerdict(), cfg.online.verdict, ha, ha.stamp, stamp_b);
+    res->result = toMessage(coral::AlignmentVerdict(), cfg.online.verdict, ha, ha.stamp, stamp_b);
     res->error = "request refused: " + error;
     res->result.status = AlignmentQuality::REFUSED;
     res->result.reason = res->error;
     return false;
   }
-  core::Scan a, b;
+  coral::Scan a, b;
   a.points = std::move(sa.scan.features.points);
   b.points = std::move(sb.scan.features.points);
   // A loop-closure candidate: the gated verdict with the loop gate (coral/verdict.hpp).
   online::IntrospectorConfig judge = cfg.online;
-  if (req.loop_closure) judge.verdict = core::loopClosureVerdict(cfg.online.verdict);
+  if (req.loop_closure) judge.verdict = coral::loopClosureVerdict(cfg.online.verdict);
   const online::PairJudgement j = online::judgePair(std::move(a), b, T_a_b, judge, false);
   res->result = toMessage(j.verdict, judge.verdict, ha, ha.stamp, stamp_b);
   res->result.loop_closure = req.loop_closure;

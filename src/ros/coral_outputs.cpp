@@ -40,7 +40,8 @@ online::ProcessOptions Outputs::options(const NodeConfig& cfg, bool is_radar) co
 
 double Outputs::publish(const online::Report& r, uint8_t status, const std_msgs::Header& h,
                         const ros::Time& receipt, const std::string& fixed_frame,
-                        const online::ProcessOptions& o, const core::VerdictConfig& verdict) const {
+                        const online::ProcessOptions& o,
+                        const coral::VerdictConfig& verdict) const {
   if (r.doppler && doppler_) doppler_.publish(toMessage(*r.doppler, h));
   if (o.keep_features && r.has_pose)
     features_.publish(pointsToCloud(r.features.points, h, &r.features.intensity));

@@ -9,23 +9,23 @@ namespace ros_adapters {
 
 namespace {
 
-// Indexed by core::VerdictMethod.
+// Indexed by coral::VerdictMethod.
 std::vector<std::string> methodNames() {
   std::vector<std::string> n;
-  for (auto m : {core::VerdictMethod::kClassifier, core::VerdictMethod::kRelative,
-                 core::VerdictMethod::kBoth, core::VerdictMethod::kGated})
-    n.push_back(core::verdictMethodName(m));
+  for (auto m : {coral::VerdictMethod::kClassifier, coral::VerdictMethod::kRelative,
+                 coral::VerdictMethod::kBoth, coral::VerdictMethod::kGated})
+    n.push_back(coral::verdictMethodName(m));
   return n;
 }
 
 bool readAll(config::ParamTree& r, NodeConfig* c) {
   online::IntrospectorConfig& o = c->online;
   int input = c->input_type == InputType::kPolarImage ? 1 : 0;
-  int agg = o.coral.aggregation == core::Aggregation::kMedian ? 1 : 0;
+  int agg = o.coral.aggregation == coral::Aggregation::kMedian ? 1 : 0;
   int fmt = c->polar_format == PolarFormat::kPlain ? 1 : 0;
-  int dir = c->polar.direction == core::AzimuthDirection::kClockwise ? 1 : 0;
+  int dir = c->polar.direction == radar::AzimuthDirection::kClockwise ? 1 : 0;
   int seed = static_cast<int>(o.doppler.check.seed);
-  int method = static_cast<int>(o.verdict.method);  // core::VerdictMethod order
+  int method = static_cast<int>(o.verdict.method);  // coral::VerdictMethod order
   const bool ok =
       r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
@@ -110,11 +110,11 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("calibration/accept_score", &o.calibration.accept_score) &&
       r.get("calibration/output_file", &o.calibration.output_file);
   c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
-  o.verdict.method = static_cast<core::VerdictMethod>(method);
-  o.coral.aggregation = agg == 1 ? core::Aggregation::kMedian : core::Aggregation::kMean;
+  o.verdict.method = static_cast<coral::VerdictMethod>(method);
+  o.coral.aggregation = agg == 1 ? coral::Aggregation::kMedian : coral::Aggregation::kMean;
   c->polar_format = fmt == 1 ? PolarFormat::kPlain : PolarFormat::kOxford;
   c->polar.direction =
-      dir == 1 ? core::AzimuthDirection::kClockwise : core::AzimuthDirection::kCounterClockwise;
+      dir == 1 ? radar::AzimuthDirection::kClockwise : radar::AzimuthDirection::kCounterClockwise;
   if (!ok) return false;
   if (seed < 0)
     return r.fail("parameter doppler/seed must be >= 0 (got " + std::to_string(seed) + ")");

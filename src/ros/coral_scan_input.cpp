@@ -36,8 +36,8 @@ bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, 
     return false;
   out->dropped_non_finite = stats.non_finite;
   if (out->scan.features.points.empty())
-    return core::fail(error,
-                      stats.non_finite > 0 ? "only NaN/Inf points" : "empty cloud (0 points)");
+    return coral::fail(error,
+                       stats.non_finite > 0 ? "only NaN/Inf points" : "empty cloud (0 points)");
   return true;
 }
 
@@ -63,16 +63,16 @@ bool toSensorScan(const sensor_msgs::Image& image, const NodeConfig& cfg, Sensor
   const cv::Mat mat(static_cast<int>(image.height), static_cast<int>(image.width), CV_8UC1,
                     const_cast<uint8_t*>(image.data.data()), image.step);
   const double stamp = image.header.stamp.toSec();
-  core::PolarScan scan;
+  radar::PolarScan scan;
   const bool ok = cfg.polar_format == PolarFormat::kOxford
-                      ? core::decodeOxfordImage(mat, &scan, error)
-                      : core::decodePolarImage(mat, cfg.polar, stamp, &scan, error);
+                      ? radar::decodeOxfordImage(mat, &scan, error)
+                      : radar::decodePolarImage(mat, cfg.polar, stamp, &scan, error);
   if (!ok) return false;
-  if (!core::extractRipFeatures(scan, cfg.rip, &out->scan.features, error)) return false;
+  if (!radar::extractRipFeatures(scan, cfg.rip, &out->scan.features, error)) return false;
   const double shift = stamp - scan.stamp;  // embedded clock -> header clock
   for (double& t : out->scan.features.stamps) t += shift;
   if (out->scan.features.points.empty())
-    return core::fail(error, "no RIP features (check rip/z_min and the image)");
+    return coral::fail(error, "no RIP features (check rip/z_min and the image)");
   return true;
 }
 

@@ -31,7 +31,7 @@ class Outputs {
   // written into the message (now - receipt).
   double publish(const online::Report& report, uint8_t status, const std_msgs::Header& scan_header,
                  const ros::Time& receipt, const std::string& fixed_frame,
-                 const online::ProcessOptions& options, const core::VerdictConfig& verdict) const;
+                 const online::ProcessOptions& options, const coral::VerdictConfig& verdict) const;
   // The AlignmentQuality of a scan the Introspector never saw (refused, dropped).
   double publishNoVerdict(uint8_t status, const std::string& reason,
                           const std_msgs::Header& scan_header, const ros::Time& receipt,

@@ -43,8 +43,8 @@ struct NodeConfig {
   // z = 0 points are singular), checked by validate() rather than switched silently.
   online::IntrospectorConfig online;
   PolarFormat polar_format = PolarFormat::kOxford;
-  core::PolarImageConfig polar;  // used by polar_format plain (oxford: fixed layout)
-  core::RipConfig rip;
+  radar::PolarImageConfig polar;  // used by polar_format plain (oxford: fixed layout)
+  radar::RipConfig rip;
   bool publish_quality_cloud = true;
   bool publish_features = true;
   std::string velocity_field = "velocity";  // doppler/velocity_field: radial velocity [m/s]

@@ -13,10 +13,10 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string LaserGeometry::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(angle_increment > 0.0, "angle_increment", "> 0 rad", angle_increment)
       .require(min_range >= 0.0 && min_range < max_range, "min_range", "in [0, max_range) m",
                min_range)
@@ -31,28 +31,28 @@ bool readText(const std::string& path, std::string* text, std::string* error) {
   const bool bz2 = path.size() > 4 && path.compare(path.size() - 4, 4, ".bz2") == 0;
   if (!bz2) {
     std::ifstream f(path, std::ios::binary);
-    if (!f) return fail(error, "cannot open " + path);
+    if (!f) return coral::fail(error, "cannot open " + path);
     std::ostringstream s;
     s << f.rdbuf();
     *text = s.str();
     return true;
   }
   std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) return fail(error, "cannot open " + path);
+  if (!f) return coral::fail(error, "cannot open " + path);
   std::vector<char> unused;
   char buf[1 << 16];
   while (true) {
     int err = BZ_OK;
     BZFILE* bz =
         BZ2_bzReadOpen(&err, f.get(), 0, 0, unused.data(), static_cast<int>(unused.size()));
-    if (err != BZ_OK) return fail(error, path + ": not a bzip2 file");
+    if (err != BZ_OK) return coral::fail(error, path + ": not a bzip2 file");
     while (err == BZ_OK) {
       const int n = BZ2_bzRead(&err, bz, buf, sizeof(buf));
       if (err == BZ_OK || err == BZ_STREAM_END) text->append(buf, n);
     }
     if (err != BZ_STREAM_END) {
       BZ2_bzReadClose(&err, bz);
-      return fail(error, path + ": corrupt bzip2 data");
+      return coral::fail(error, path + ": corrupt bzip2 data");
     }
     void* rest = nullptr;
     int n_rest = 0;
@@ -90,14 +90,14 @@ bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
     ls >> s.laser_pose.x() >> s.laser_pose.y() >> s.laser_pose.z() >> odom[0] >> odom[1] >>
         odom[2] >> s.stamp;
     if (!ls || count <= 0)
-      return fail(error, path + ":" + std::to_string(n) + ": malformed FLASER line");
+      return coral::fail(error, path + ":" + std::to_string(n) + ": malformed FLASER line");
     scans->push_back(std::move(s));
   }
   return true;
 }
 
-Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
-  Points p;
+coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
+  coral::Points p;
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
     const double r = scan.ranges[i], a = g.start_angle + static_cast<double>(i) * g.angle_increment;
     if (r >= g.min_range && r < g.max_range) p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
@@ -107,7 +107,7 @@ Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
 
 bool readRelations(const std::string& path, std::vector<Relation>* relations, std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   relations->clear();
   std::string line;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
@@ -116,7 +116,8 @@ bool readRelations(const std::string& path, std::vector<Relation>* relations, st
     Relation r;
     double x, y, z, roll, pitch, yaw;
     if (!(ls >> r.t1 >> r.t2 >> x >> y >> z >> roll >> pitch >> yaw))
-      return fail(error, path + ":" + std::to_string(n) + ": expected t1 t2 x y z roll pitch yaw");
+      return coral::fail(error,
+                         path + ":" + std::to_string(n) + ": expected t1 t2 x y z roll pitch yaw");
     r.T_1_2.translation() = Eigen::Vector3d(x, y, z);
     r.T_1_2.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
                         Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
@@ -130,7 +131,7 @@ bool readRelations(const std::string& path, std::vector<Relation>* relations, st
 bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Relation>& relations,
                    const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
                    std::vector<ScanPair>* pairs, int* unmatched, std::string* error) {
-  if (const std::string e = geometry.validate(); !e.empty()) return fail(error, e);
+  if (const std::string e = geometry.validate(); !e.empty()) return coral::fail(error, e);
   std::map<double, std::size_t> by_stamp;  // stamp -> log index
   for (std::size_t i = 0; i < log.size(); ++i) by_stamp.emplace(log[i].stamp, i);
   auto find = [&](double t) -> int {
@@ -192,7 +193,7 @@ bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::strin
 namespace {
 Eigen::Isometry3d planar(double x, double y, double theta) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Vec3(x, y, 0.0);
+  T.translation() = coral::Vec3(x, y, 0.0);
   T.linear() = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return T;
 }
@@ -200,11 +201,11 @@ Eigen::Isometry3d planar(double x, double y, double theta) {
 
 bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
                        const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
-                       Isometries* T_world_ref, Isometries* T_world_odom,
+                       coral::Isometries* T_world_ref, coral::Isometries* T_world_odom,
                        std::vector<int>* raw_index, std::string* error) {
-  if (const std::string e = geometry.validate(); !e.empty()) return fail(error, e);
+  if (const std::string e = geometry.validate(); !e.empty()) return coral::fail(error, e);
   std::ifstream in(corrected_csv);
-  if (!in) return fail(error, corrected_csv + ": cannot read");
+  if (!in) return coral::fail(error, corrected_csv + ": cannot read");
   scans->clear();
   T_world_ref->clear();
   T_world_odom->clear();
@@ -217,11 +218,11 @@ bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::strin
     long idx = 0, raw = 0;
     double stamp = 0, x = 0, y = 0, theta = 0;
     if (!(s >> idx >> raw >> stamp >> x >> y >> theta))
-      return fail(error, corrected_csv + ":" + std::to_string(n) + ": malformed line");
+      return coral::fail(error, corrected_csv + ":" + std::to_string(n) + ": malformed line");
     if (raw < 0 || raw >= static_cast<long>(log.size()))
-      return fail(error, corrected_csv + ":" + std::to_string(n) + ": FLASER index " +
-                             std::to_string(raw) + " outside the log (" +
-                             std::to_string(log.size()) + " scans)");
+      return coral::fail(error, corrected_csv + ":" + std::to_string(n) + ": FLASER index " +
+                                    std::to_string(raw) + " outside the log (" +
+                                    std::to_string(log.size()) + " scans)");
     const CarmenLaserScan& l = log[static_cast<std::size_t>(raw)];
     TrainingScan t;
     t.stamp = l.stamp;
@@ -231,9 +232,9 @@ bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::strin
     T_world_odom->push_back(planar(l.laser_pose.x(), l.laser_pose.y(), l.laser_pose.z()));
     raw_index->push_back(static_cast<int>(raw));
   }
-  if (scans->empty()) return fail(error, corrected_csv + ": no poses");
+  if (scans->empty()) return coral::fail(error, corrected_csv + ": no poses");
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

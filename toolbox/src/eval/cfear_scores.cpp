@@ -12,10 +12,10 @@
 #include "coral_introspection/coral/neighbour_grid.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string CfearConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(resolution > 0.0, "resolution", "> 0 m", resolution)
       .require(min_points >= 3, "min_points", ">= 3", min_points)
       .require(eigen_floor_ratio > 0.0 && eigen_floor_ratio <= 1.0, "eigen_floor_ratio",
@@ -24,27 +24,28 @@ std::string CfearConfig::validate() const {
 }
 
 namespace {
-Points planarFinite(const Points& in) {
-  Points out;
+coral::Points planarFinite(const coral::Points& in) {
+  coral::Points out;
   out.reserve(in.size());
-  for (const Vec3& p : in)
+  for (const coral::Vec3& p : in)
     if (p.head<2>().allFinite()) out.emplace_back(p.x(), p.y(), 0.0);
   return out;
 }
 }  // namespace
 
-SurfacePoints computeSurfacePoints(const Points& points, const CfearConfig& cfg) {
+SurfacePoints computeSurfacePoints(const coral::Points& points, const CfearConfig& cfg) {
   SurfacePoints out;
   if (!cfg.validate().empty()) return out;
-  const Points pts = planarFinite(points);
+  const coral::Points pts = planarFinite(points);
   // Grid downsampling: the mean of the points of each occupied cell.
   const double inv = 1.0 / cfg.resolution;
   struct CellSum {
-    Vec3 sum = Vec3::Zero();  // explicit: Eigen leaves default-constructed vectors unset
+    coral::Vec3 sum =
+        coral::Vec3::Zero();  // explicit: Eigen leaves default-constructed vectors unset
     double n = 0.0;
   };
   std::unordered_map<uint64_t, CellSum> cells;
-  for (const Vec3& p : pts) {
+  for (const coral::Vec3& p : pts) {
     const auto ix = static_cast<int64_t>(std::floor(p.x() * inv));
     const auto iy = static_cast<int64_t>(std::floor(p.y() * inv));
     CellSum& c =
@@ -52,11 +53,12 @@ SurfacePoints computeSurfacePoints(const Points& points, const CfearConfig& cfg)
     c.sum += p;
     c.n += 1.0;
   }
-  const NeighbourGrid grid(pts, cfg.resolution, 2);
+  const coral::NeighbourGrid grid(pts, cfg.resolution, 2);
   for (const auto& kv : cells) {
-    const Vec3 centre = kv.second.sum / kv.second.n;
-    Moments m;
-    grid.forEachWithin(centre, cfg.resolution, [&](const Vec3& x, uint32_t) { m.add(x - centre); });
+    const coral::Vec3 centre = kv.second.sum / kv.second.n;
+    coral::Moments m;
+    grid.forEachWithin(centre, cfg.resolution,
+                       [&](const coral::Vec3& x, uint32_t) { m.add(x - centre); });
     if (m.n < cfg.min_points) continue;
     SurfacePoint s;
     s.num_points = static_cast<int>(m.n);
@@ -104,15 +106,15 @@ CfearScores computeCfearScores(const SurfacePoints& target, const SurfacePoints&
                                const CfearConfig& cfg) {
   CfearScores res;
   if (target.empty() || source.empty() || !cfg.validate().empty()) return res;
-  Points means;
+  coral::Points means;
   means.reserve(target.size());
   for (const SurfacePoint& s : target) means.emplace_back(s.mean.x(), s.mean.y(), 0.0);
-  const NeighbourGrid grid(means, cfg.resolution, 2);
+  const coral::NeighbourGrid grid(means, cfg.resolution, 2);
   for (const SurfacePoint& s : source) {
-    const Vec3 q(s.mean.x(), s.mean.y(), 0.0);
+    const coral::Vec3 q(s.mean.x(), s.mean.y(), 0.0);
     double best = std::numeric_limits<double>::infinity();
     int best_i = -1;
-    grid.forEachWithin(q, cfg.resolution, [&](const Vec3& x, uint32_t i) {
+    grid.forEachWithin(q, cfg.resolution, [&](const coral::Vec3& x, uint32_t i) {
       const double d2 = (x - q).squaredNorm();
       if (d2 < best) {
         best = d2;
@@ -133,5 +135,5 @@ CfearScores computeCfearScores(const SurfacePoints& target, const SurfacePoints&
   return res;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

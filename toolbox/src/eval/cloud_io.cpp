@@ -15,7 +15,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 namespace {
 
@@ -106,22 +106,22 @@ bool checkPcdField(const std::string& path, const pcl::PCLPointField& f, bool co
                    bool ascii, std::string* error) {
   const std::string what = path + ": field '" + f.name + "' ";
   if (!pcdType(f.datatype))
-    return fail(error, what + "has TYPE / SIZE " + pcdTypeName(f.datatype) +
-                           ": PCD defines F 4, F 8 and I / U 1, 2, 4, 8");
+    return coral::fail(error, what + "has TYPE / SIZE " + pcdTypeName(f.datatype) +
+                                  ": PCD defines F 4, F 8 and I / U 1, 2, 4, 8");
   if (coordinate && f.datatype != F::FLOAT32 && f.datatype != F::FLOAT64)
-    return fail(error, what + "is TYPE / SIZE " + pcdTypeName(f.datatype) +
-                           ": coordinates are read from F 4 or F 8 only (an integer "
-                           "coordinate is a scaled value of unknown unit; convert it to "
-                           "metres as float32 first)");
+    return coral::fail(error, what + "is TYPE / SIZE " + pcdTypeName(f.datatype) +
+                                  ": coordinates are read from F 4 or F 8 only (an integer "
+                                  "coordinate is a scaled value of unknown unit; convert it to "
+                                  "metres as float32 first)");
   // PCL's ascii reader parses 64-bit integers through a double: 2^53 + 1 arrives as 2^53,
   // and nothing after it can tell.
   if (ascii && (f.datatype == F::INT64 || f.datatype == F::UINT64))
-    return fail(error, what + "is TYPE / SIZE " + pcdTypeName(f.datatype) +
-                           " in an ascii PCD: PCL's ascii reader rounds 64-bit integers "
-                           "through a double (beyond 2^53); store the file as binary");
+    return coral::fail(error, what + "is TYPE / SIZE " + pcdTypeName(f.datatype) +
+                                  " in an ascii PCD: PCL's ascii reader rounds 64-bit integers "
+                                  "through a double (beyond 2^53); store the file as binary");
   if (f.count != 1)
-    return fail(error,
-                what + "has COUNT " + std::to_string(f.count) + " (1 value per point expected)");
+    return coral::fail(
+        error, what + "has COUNT " + std::to_string(f.count) + " (1 value per point expected)");
   return true;
 }
 
@@ -136,17 +136,18 @@ bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
   unsigned int data_start = 0;
   if (reader.readHeader(path, c, origin, orientation, version, encoding, data_start) < 0 ||
       reader.read(path, c) < 0)
-    return fail(error, path + ": not a readable PCD file");
+    return coral::fail(error, path + ": not a readable PCD file");
   const pcl::PCLPointField* f[4] = {nullptr, nullptr, nullptr, nullptr};
   const char* names[4] = {"x", "y", "z", "intensity"};
   for (const pcl::PCLPointField& field : c.fields)
     for (int k = 0; k < 4; ++k)
       if (field.name == names[k]) f[k] = &field;
-  if (!f[0] || !f[1] || !f[2]) return fail(error, path + ": PCD file without fields x, y, z");
+  if (!f[0] || !f[1] || !f[2])
+    return coral::fail(error, path + ": PCD file without fields x, y, z");
   for (int k = 0; k < 4; ++k)
     if (f[k] && !checkPcdField(path, *f[k], k < 3, encoding == 0, error)) return false;
   const std::size_t n = static_cast<std::size_t>(c.width) * c.height;
-  if (c.data.size() < n * c.point_step) return fail(error, path + ": PCD data is truncated");
+  if (c.data.size() < n * c.point_step) return coral::fail(error, path + ": PCD data is truncated");
   cloud->points.resize(n);
   cloud->intensity.assign(f[3] ? n : 0, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -154,10 +155,10 @@ bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
     double v[4] = {0.0, 0.0, 0.0, 0.0};
     for (int k = 0; k < 4; ++k)
       if (f[k] && !pcdType(f[k]->datatype)->read(point + f[k]->offset, &v[k]))
-        return fail(error, path + ": field '" + f[k]->name + "' of point " + std::to_string(i) +
-                               " (" + pcdTypeName(f[k]->datatype) +
-                               ") is beyond 2^53 in magnitude: not exact as a double");
-    cloud->points[i] = Vec3(v[0], v[1], v[2]);
+        return coral::fail(error, path + ": field '" + f[k]->name + "' of point " +
+                                      std::to_string(i) + " (" + pcdTypeName(f[k]->datatype) +
+                                      ") is beyond 2^53 in magnitude: not exact as a double");
+    cloud->points[i] = coral::Vec3(v[0], v[1], v[2]);
     if (f[3]) cloud->intensity[i] = v[3];
   }
   return true;
@@ -165,20 +166,21 @@ bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
 
 bool loadKittiBin(const std::string& path, LoadedCloud* cloud, std::string* error) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   const std::streamsize bytes = in.tellg();
   if (bytes % 16 != 0)
-    return fail(error, path + ": size " + std::to_string(bytes) +
+    return coral::fail(error,
+                       path + ": size " + std::to_string(bytes) +
                            " B is not a multiple of 16 (float32 x, y, z, intensity records)");
   std::vector<float> raw(static_cast<std::size_t>(bytes) / 4);
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(raw.data()), bytes))
-    return fail(error, path + ": read error");
+    return coral::fail(error, path + ": read error");
   const std::size_t n = raw.size() / 4;
   cloud->points.resize(n);
   cloud->intensity.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    cloud->points[i] = Vec3(raw[4 * i], raw[4 * i + 1], raw[4 * i + 2]);
+    cloud->points[i] = coral::Vec3(raw[4 * i], raw[4 * i + 1], raw[4 * i + 2]);
     cloud->intensity[i] = raw[4 * i + 3];
   }
   return true;
@@ -187,13 +189,13 @@ bool loadKittiBin(const std::string& path, LoadedCloud* cloud, std::string* erro
 // All numbers of a text file, in order.
 bool readAllNumbers(const std::string& path, std::vector<double>* v, std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   v->clear();
   std::string line;
   std::vector<double> row;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
     if (!parseNumbers(line, 0, &row))
-      return fail(error, path + ":" + std::to_string(n) + ": not a list of numbers");
+      return coral::fail(error, path + ":" + std::to_string(n) + ": not a list of numbers");
     v->insert(v->end(), row.begin(), row.end());
   }
   return true;
@@ -202,7 +204,7 @@ bool readAllNumbers(const std::string& path, std::vector<double>* v, std::string
 // 12 numbers (3x4 row-major) -> isometry; false when the rotation is not orthonormal.
 bool isometryFrom3x4(const double* m, Eigen::Isometry3d* T) {
   Eigen::Matrix3d R;
-  Vec3 t;
+  coral::Vec3 t;
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) R(r, c) = m[4 * r + c];
     t(r) = m[4 * r + 3];
@@ -227,14 +229,14 @@ bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error) 
     if (ext == "bin") return loadKittiBin(path, cloud, error);
     if (ext == "csv") return readCsvPoints(path, &cloud->points, error);
   } catch (const std::exception& e) {  // PCL may throw on malformed headers
-    return fail(error, path + ": " + e.what());
+    return coral::fail(error, path + ": " + e.what());
   }
-  return fail(error, path + ": unknown point cloud extension (expected .pcd, .bin or .csv)");
+  return coral::fail(error, path + ": unknown point cloud extension (expected .pcd, .bin or .csv)");
 }
 
-bool readCsvPoints(const std::string& path, Points* points, std::string* error) {
+bool readCsvPoints(const std::string& path, coral::Points* points, std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   points->clear();
   std::string line;
   std::vector<double> v;
@@ -242,7 +244,7 @@ bool readCsvPoints(const std::string& path, Points* points, std::string* error) 
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     if (!parseNumbers(line, 0, &v) || v.size() < 3) {
       if (n == 1) continue;  // header
-      return fail(error, path + ":" + std::to_string(n) + ": expected at least 3 numbers");
+      return coral::fail(error, path + ":" + std::to_string(n) + ": expected at least 3 numbers");
     }
     points->emplace_back(v[0], v[1], v[2]);
   }
@@ -252,7 +254,7 @@ bool readCsvPoints(const std::string& path, Points* points, std::string* error) 
 bool readCsvPose(const std::string& path, const std::string& name, Eigen::Isometry3d* pose,
                  std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   std::string line;
   std::vector<double> v;
   while (std::getline(in, line)) {
@@ -260,31 +262,32 @@ bool readCsvPose(const std::string& path, const std::string& name, Eigen::Isomet
     first.erase(first.find_last_not_of(" \t") + 1);
     if (first != name) continue;
     if (!parseNumbers(line, 1, &v) || v.size() != 16)
-      return fail(error, path + ": pose of " + name + " does not have 16 numbers");
+      return coral::fail(error, path + ": pose of " + name + " does not have 16 numbers");
     Eigen::Matrix4d M;
     for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = v[i];
     pose->matrix() = M;
     return true;
   }
-  return fail(error, path + ": no pose for " + name);
+  return coral::fail(error, path + ": no pose for " + name);
 }
 
 bool readTransformFile(const std::string& path, Eigen::Isometry3d* T, std::string* error) {
   std::vector<double> v;
   if (!readAllNumbers(path, &v, error)) return false;
   if (v.size() != 12 && v.size() != 16)
-    return fail(error, path + ": expected a 3x4 or 4x4 matrix (12 or 16 numbers), got " +
-                           std::to_string(v.size()));
+    return coral::fail(error, path + ": expected a 3x4 or 4x4 matrix (12 or 16 numbers), got " +
+                                  std::to_string(v.size()));
   if (v.size() == 16 && !(v[12] == 0.0 && v[13] == 0.0 && v[14] == 0.0 && v[15] == 1.0))
-    return fail(error, path + ": the last row of a 4x4 transform must be 0 0 0 1");
+    return coral::fail(error, path + ": the last row of a 4x4 transform must be 0 0 0 1");
   if (!isometryFrom3x4(v.data(), T))
-    return fail(error, path + ": the rotation part is not a proper rotation (orthonormal, det +1)");
+    return coral::fail(error,
+                       path + ": the rotation part is not a proper rotation (orthonormal, det +1)");
   return true;
 }
 
-bool readKittiPoses(const std::string& path, Isometries* poses, std::string* error) {
+bool readKittiPoses(const std::string& path, coral::Isometries* poses, std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   poses->clear();
   std::string line;
   std::vector<double> v;
@@ -292,11 +295,12 @@ bool readKittiPoses(const std::string& path, Isometries* poses, std::string* err
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     Eigen::Isometry3d T;
     if (!parseNumbers(line, 0, &v) || v.size() != 12 || !isometryFrom3x4(v.data(), &T))
-      return fail(error, path + ":" + std::to_string(n) + ": expected a 3x4 rotation|translation");
+      return coral::fail(error,
+                         path + ":" + std::to_string(n) + ": expected a 3x4 rotation|translation");
     poses->push_back(T);
   }
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

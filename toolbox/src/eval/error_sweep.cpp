@@ -4,9 +4,9 @@
 #include <sstream>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
-std::vector<SweepError> sweepErrors(const ToleranceConfig& tol, int dimension) {
+std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension) {
   std::vector<SweepError> out;
   SweepError gt;
   gt.label = "ground truth";
@@ -14,13 +14,13 @@ std::vector<SweepError> sweepErrors(const ToleranceConfig& tol, int dimension) {
   out.push_back(gt);
   // k tolerances: the relative check's offsets (tolerance.hpp) of a k times larger tolerance.
   for (double k : sweepMultiples())
-    for (const ToleranceOffset& o :
-         toleranceOffsets({k * tol.translation, k * tol.rotation_deg}, dimension)) {
+    for (const coral::ToleranceOffset& o :
+         coral::toleranceOffsets({k * tol.translation, k * tol.rotation_deg}, dimension)) {
       SweepError e;
       e.axis = o.axis;
       e.sign = o.sign;
       e.multiple = k;
-      e.magnitude = k * (isRotation(o.axis) ? tol.rotation_deg : tol.translation);
+      e.magnitude = k * (coral::isRotation(o.axis) ? tol.rotation_deg : tol.translation);
       e.delta = o.delta;
       std::ostringstream s;
       s << o.name << k;
@@ -29,10 +29,11 @@ std::vector<SweepError> sweepErrors(const ToleranceConfig& tol, int dimension) {
     }
   for (double deg : sweepYawDegrees()) {
     if (deg < tol.rotation_deg) continue;
-    for (const ToleranceOffset& o : toleranceOffsets({tol.translation, deg}, dimension)) {
-      if (o.axis != Axis::kYaw || (deg >= 180.0 && o.sign < 0)) continue;  // +180 = -180
+    for (const coral::ToleranceOffset& o :
+         coral::toleranceOffsets({tol.translation, deg}, dimension)) {
+      if (o.axis != coral::Axis::kYaw || (deg >= 180.0 && o.sign < 0)) continue;  // +180 = -180
       SweepError e;
-      e.axis = Axis::kYaw;
+      e.axis = coral::Axis::kYaw;
       e.sign = o.sign;
       e.magnitude = deg;
       e.delta = o.delta;
@@ -51,17 +52,17 @@ std::string errorSweepCsvHeader() {
 }
 
 std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepError& e,
-                             const AlignmentVerdict& v) {
+                             const coral::AlignmentVerdict& v) {
   std::ostringstream s;
   s.precision(6);
   s << dataset << ',' << pair << ',' << e.label << ','
-    << (e.ground_truth ? "none" : axisName(e.axis)) << ',' << e.multiple << ',' << e.magnitude
-    << ',' << e.ground_truth << ',' << v.valid << ',' << v.aligned << ',' << v.probability << ','
-    << v.classifier.probability << ',' << v.relative.score << ',' << v.relative.misaligned << ','
-    << v.coral.quality << ',' << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap
-    << ',' << v.coral.num_queries;
+    << (e.ground_truth ? "none" : coral::axisName(e.axis)) << ',' << e.multiple << ','
+    << e.magnitude << ',' << e.ground_truth << ',' << v.valid << ',' << v.aligned << ','
+    << v.probability << ',' << v.classifier.probability << ',' << v.relative.score << ','
+    << v.relative.misaligned << ',' << v.coral.quality << ',' << v.coral.h_joint << ','
+    << v.coral.h_sep << ',' << v.coral.overlap << ',' << v.coral.num_queries;
   return s.str();
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -9,10 +9,10 @@
 #include "coral_introspection/coral/metrics.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string EvaluationConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(folds >= 2, "folds", ">= 2", folds)
       .nested("regression", regression.validate())
       .str();
@@ -34,7 +34,8 @@ void selectSamples(const SampleSet& set, int method, const std::string& group,
 }
 
 bool fitSamples(const SampleSet& set, int method, const std::vector<int>& idx,
-                const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error) {
+                const coral::LogisticRegressionConfig& cfg, coral::LogisticModel* model,
+                std::string* error) {
   const int d = static_cast<int>(set.methods.at(method).feature_names.size());
   Eigen::MatrixXd X(idx.size(), d);
   std::vector<int> y;
@@ -43,12 +44,12 @@ bool fitSamples(const SampleSet& set, int method, const std::vector<int>& idx,
     for (int j = 0; j < d; ++j) X(r, j) = s.features[method][j];
     y.push_back(s.label);
   }
-  return fitLogisticRegression(X, y, {}, cfg, model, error);
+  return coral::fitLogisticRegression(X, y, {}, cfg, model, error);
 }
 
 namespace {
 
-double predict(const LogisticModel& m, const Sample& s, int method) {
+double predict(const coral::LogisticModel& m, const Sample& s, int method) {
   const std::vector<double>& f = s.features[method];
   return m.probability(Eigen::Map<const Eigen::VectorXd>(f.data(), f.size()));
 }
@@ -62,13 +63,14 @@ void summarizeRow(const SampleSet& set, const std::vector<int>& idx, double thre
   row->pairs = static_cast<int>(pairs.size());
   row->aligned = static_cast<int>(std::count(row->labels.begin(), row->labels.end(), 1));
   row->misaligned = static_cast<int>(row->labels.size()) - row->aligned;
-  row->accuracy = accuracy(row->scores, row->labels, threshold, true);
-  row->plain_accuracy = accuracy(row->scores, row->labels, threshold, false);
-  row->auc = auc(row->scores, row->labels);
+  row->accuracy = coral::accuracy(row->scores, row->labels, threshold, true);
+  row->plain_accuracy = coral::accuracy(row->scores, row->labels, threshold, false);
+  row->auc = coral::auc(row->scores, row->labels);
 }
 
 bool fitMethod(const SampleSet& set, int method, const std::string& group,
-               const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error) {
+               const coral::LogisticRegressionConfig& cfg, coral::LogisticModel* model,
+               std::string* error) {
   std::vector<int> idx;
   int skipped = 0;
   selectSamples(set, method, group, &idx, &skipped);
@@ -105,7 +107,7 @@ bool crossValidate(const SampleSet& set, const EvaluationConfig& cfg,
           const int p = set.samples[i].pair;
           (p >= lo && p <= hi ? test : train).push_back(i);
         }
-        LogisticModel model;
+        coral::LogisticModel model;
         std::string err;
         if (test.empty() ||
             !fitSamples(set, static_cast<int>(m), train, cfg.regression, &model, &err))
@@ -139,7 +141,7 @@ bool trainTest(const SampleSet& train, const SampleSet& test, const EvaluationCo
       EvaluationRow row;
       row.method = test.methods[m].name;
       row.group = g;
-      LogisticModel model;
+      coral::LogisticModel model;
       std::string err;
       std::vector<int> idx;
       selectSamples(test, static_cast<int>(m), g, &idx, &row.skipped);
@@ -155,5 +157,5 @@ bool trainTest(const SampleSet& train, const SampleSet& test, const EvaluationCo
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

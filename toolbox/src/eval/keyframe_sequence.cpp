@@ -9,10 +9,10 @@
 #include "coral_introspection/eval/cloud_io.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string KeyframeSequenceConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(!scans_dir.empty(), "scans_dir", "non-empty", "\"\"")
       .require(!poses_file.empty(), "poses_file", "non-empty", "\"\"")
       .require(min_range >= 0.0, "min_range", ">= 0 m", min_range)
@@ -29,8 +29,8 @@ bool exists(const std::string& p) {
 
 bool loadKeyframeSequence(const std::string& folder, const KeyframeSequenceConfig& cfg,
                           const Progress& progress, std::vector<TrainingScan>* scans,
-                          Isometries* T_world_scan, std::string* error) {
-  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+                          coral::Isometries* T_world_scan, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
   if (!readKittiPoses(folder + "/" + cfg.poses_file, T_world_scan, error)) return false;
   std::size_t n = T_world_scan->size();
   if (cfg.max_scans > 0) n = std::min<std::size_t>(n, cfg.max_scans);
@@ -39,7 +39,7 @@ bool loadKeyframeSequence(const std::string& folder, const KeyframeSequenceConfi
   if (std::ifstream t(folder + "/" + cfg.times_file); t)
     for (double s; t >> s;) stamps.push_back(s);
   if (!stamps.empty() && stamps.size() < n)
-    return fail(error, folder + "/" + cfg.times_file + ": fewer stamps than poses");
+    return coral::fail(error, folder + "/" + cfg.times_file + ": fewer stamps than poses");
   scans->assign(n, TrainingScan());
   for (std::size_t i = 0; i < n; ++i) {
     char name[32];
@@ -50,12 +50,12 @@ bool loadKeyframeSequence(const std::string& folder, const KeyframeSequenceConfi
     if (!loadCloud(path, &cloud, error)) return false;
     TrainingScan& s = (*scans)[i];
     s.stamp = stamps.empty() ? static_cast<double>(i) : stamps[i];
-    for (const Vec3& p : cloud.points)
+    for (const coral::Vec3& p : cloud.points)
       if (p.allFinite() && p.norm() >= cfg.min_range) s.scan.points.push_back(p);
     if (progress) progress(i + 1, n);
   }
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

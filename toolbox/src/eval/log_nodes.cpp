@@ -5,7 +5,7 @@
 #include <cstdlib>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 LogNodes::LogNodes(const std::vector<CarmenLaserScan>& log, const std::vector<int>& raw_index)
     : log_(log), raw_index_(raw_index) {}
@@ -24,14 +24,14 @@ bool LogNodes::attach(double stamp, int max_lines, int* node,
   if (std::abs(raw_index_[k] - line) > max_lines) return false;
   auto odom = [&](int l) {
     const Eigen::Vector3d& p = log_[static_cast<std::size_t>(l)].laser_pose;
-    return se2(p.x(), p.y(), p.z());
+    return coral::se2(p.x(), p.y(), p.z());
   };
   *node = k;
   *T_node_scan = odom(raw_index_[k]).inverse() * odom(line);
   return true;
 }
 
-RelationError relationError(const LogNodes& nodes, const Isometries& T_world_node,
+RelationError relationError(const LogNodes& nodes, const coral::Isometries& T_world_node,
                             const std::vector<Relation>& relations, int max_lines) {
   RelationError e;
   for (const Relation& r : relations) {
@@ -58,5 +58,5 @@ RelationError relationError(const LogNodes& nodes, const Isometries& T_world_nod
   return e;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

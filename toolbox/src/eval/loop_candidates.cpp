@@ -13,10 +13,10 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string LoopCandidateConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
       .require(min_index_gap >= 1, "min_index_gap", ">= 1", min_index_gap)
       .require(radius > 0.0, "radius", "> 0 m", radius)
@@ -36,10 +36,10 @@ std::string LoopCandidateConfig::validate() const {
 
 namespace {
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const Points& pts, int dimension) {
+pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const coral::Points& pts, int dimension) {
   pcl::PointCloud<pcl::PointXYZ>::Ptr c(new pcl::PointCloud<pcl::PointXYZ>);
   c->reserve(pts.size());
-  for (const Vec3& p : pts)
+  for (const coral::Vec3& p : pts)
     if (p.allFinite())
       c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
                                  dimension == 2 ? 0.f : static_cast<float>(p.z())));
@@ -80,7 +80,7 @@ std::vector<std::pair<int, int>> spreadPairs(int n, int gap, int max_pairs, Keep
 
 }  // namespace
 
-LoopCandidateConfig evaluationCandidates(int dimension, const ToleranceConfig& tolerance) {
+LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceConfig& tolerance) {
   LoopCandidateConfig c;
   c.dimension = dimension;
   c.tolerance = tolerance;
@@ -103,7 +103,7 @@ void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_re
   *r_deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
 }
 
-void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_init,
+void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::Isometry3d& T_init,
                   const LoopCandidateConfig& cfg, LoopCandidate* c) {
   const auto target = toPcl(a, cfg.dimension);
   const auto source = toPcl(b, cfg.dimension);
@@ -129,23 +129,24 @@ void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_i
   c->T_a_b.linear() = Eigen::Quaterniond(c->T_a_b.linear()).normalized().toRotationMatrix();
 }
 
-bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometries& T_world_ref,
-                         const Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+bool buildLoopCandidates(const std::vector<TrainingScan>& scans,
+                         const coral::Isometries& T_world_ref,
+                         const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
                          std::vector<LoopCandidate>* out, std::string* error) {
-  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
   const int n = static_cast<int>(scans.size());
   if (T_world_ref.size() != scans.size() || T_world_odom.size() != scans.size())
-    return fail(error, "scans, reference and odometry poses differ in number");
+    return coral::fail(error, "scans, reference and odometry poses differ in number");
   out->clear();
-  auto distIn = [](const Isometries& T, int i, int j) {
+  auto distIn = [](const coral::Isometries& T, int i, int j) {
     return (T[i].translation() - T[j].translation()).head<2>().norm();
   };
   auto dist = [&](int i, int j) { return distIn(T_world_ref, i, j); };
-  const Isometries& proposal = cfg.propose_by_odometry ? T_world_odom : T_world_ref;
+  const coral::Isometries& proposal = cfg.propose_by_odometry ? T_world_odom : T_world_ref;
   auto label = [&](LoopCandidate* c) {
     const Eigen::Isometry3d T_ref = T_world_ref[c->a].inverse() * T_world_ref[c->b];
     relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
-    const ToleranceConfig& t = cfg.tolerance;
+    const coral::ToleranceConfig& t = cfg.tolerance;
     c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
     const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
                           c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
@@ -188,5 +189,5 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometrie
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -10,10 +10,10 @@
 #include "coral_introspection/coral/entropy.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string NdtConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
       .require(voxel_size > 0.0, "voxel_size", "> 0 m", voxel_size)
       .require(min_points >= dimension + 1, "min_points", ">= dimension + 1", min_points)
@@ -27,9 +27,10 @@ namespace {
 using MatN = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
 
 struct Cell {
-  Vec3 ref = Vec3::Zero();  // first point: moments are centred on it (no cancellation)
-  Moments m;
-  Vec3 mean = Vec3::Zero();
+  coral::Vec3 ref =
+      coral::Vec3::Zero();  // first point: moments are centred on it (no cancellation)
+  coral::Moments m;
+  coral::Vec3 mean = coral::Vec3::Zero();
   MatN info;              // Sigma^-1 of the regularized N x N covariance
   double log_norm = 0.0;  // -1/2 ln((2 pi)^N det Sigma)
   double entropy = 0.0;   // Eq. 1 of the regularized Sigma [nats]
@@ -57,14 +58,14 @@ bool finalizeCell(Cell& c, const NdtConfig& cfg) {
   c.info = V * ev.cwiseInverse().asDiagonal() * V.transpose();
   const double log_det = ev.array().log().sum();
   c.log_norm = -0.5 * (N * std::log(2.0 * M_PI) + log_det);
-  Mat3 reg = Mat3::Identity();
+  coral::Mat3 reg = coral::Mat3::Identity();
   reg.topLeftCorner(N, N) = V * ev.asDiagonal() * V.transpose();
-  return differentialEntropy(reg, N, 0.0, &c.entropy);  // reuse Eq. 1
+  return coral::differentialEntropy(reg, N, 0.0, &c.entropy);  // reuse Eq. 1
 }
 
 }  // namespace
 
-NdtResult computeNdtScore(const Points& a, const Points& b, const NdtConfig& cfg) {
+NdtResult computeNdtScore(const coral::Points& a, const coral::Points& b, const NdtConfig& cfg) {
   NdtResult res;
   if (!cfg.validate().empty()) return res;
   const int N = cfg.dimension;
@@ -73,7 +74,7 @@ NdtResult computeNdtScore(const Points& a, const Points& b, const NdtConfig& cfg
 
   // NDT representation of P_a: one Gaussian per voxel with enough points [48].
   std::unordered_map<uint64_t, Cell> cells;
-  for (const Vec3& p : a) {
+  for (const coral::Vec3& p : a) {
     if (!p.allFinite()) continue;
     Cell& c = cells[voxelKey(coord(p.x()), coord(p.y()), N == 3 ? coord(p.z()) : 0)];
     if (c.m.n == 0.0) c.ref = p;
@@ -88,7 +89,7 @@ NdtResult computeNdtScore(const Points& a, const Points& b, const NdtConfig& cfg
   // neighbour of one; p~ is the density of the nearest (by mean) such cell.
   double sum_pdf = 0.0, sum_h = 0.0;
   const int zr = N == 3 ? 1 : 0;
-  for (const Vec3& p : b) {
+  for (const coral::Vec3& p : b) {
     if (!p.allFinite()) continue;
     ++res.num_points_b;
     const int64_t cx = coord(p.x()), cy = coord(p.y()), cz = N == 3 ? coord(p.z()) : 0;
@@ -119,5 +120,5 @@ NdtResult computeNdtScore(const Points& a, const Points& b, const NdtConfig& cfg
   return res;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

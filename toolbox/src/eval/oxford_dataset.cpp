@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 namespace {
 bool isFile(const std::string& p) {
@@ -27,7 +27,7 @@ bool OxfordDataset::load(const std::string& dir, std::string* error) {
   png_paths.clear();
   T_prev_curr.clear();
   std::ifstream ts(dir + "/radar.timestamps");
-  if (!ts) return fail(error, "cannot open " + dir + "/radar.timestamps");
+  if (!ts) return coral::fail(error, "cannot open " + dir + "/radar.timestamps");
   int64_t stamp = 0;
   int valid = 0;
   std::string line;
@@ -40,13 +40,13 @@ bool OxfordDataset::load(const std::string& dir, std::string* error) {
     stamps_us.push_back(stamp);
     png_paths.push_back(png);
   }
-  if (stamps_us.empty()) return fail(error, "no valid radar scan listed in " + dir);
+  if (stamps_us.empty()) return coral::fail(error, "no valid radar scan listed in " + dir);
 
   // gt/radar_odometry.csv: x, y, yaw (cols 2, 3, 7) of the pose of the source scan in the
   // destination scan's frame, keyed by the radar stamps (cols 8, 9).
   const std::string gt_path = dir + "/gt/radar_odometry.csv";
   std::ifstream gt(gt_path);
-  if (!gt) return fail(error, "cannot open " + gt_path);
+  if (!gt) return coral::fail(error, "cannot open " + gt_path);
   std::map<Key, Eigen::Isometry3d> rel;
   std::getline(gt, line);  // header
   while (std::getline(gt, line)) {
@@ -56,9 +56,9 @@ bool OxfordDataset::load(const std::string& dir, std::string* error) {
     if (f.size() < 10) continue;
     try {
       const double x = std::stod(f[2]), y = std::stod(f[3]), yaw = std::stod(f[7]);
-      rel[{std::stoll(f[8]), std::stoll(f[9])}] = se2(x, y, yaw);
+      rel[{std::stoll(f[8]), std::stoll(f[9])}] = coral::se2(x, y, yaw);
     } catch (const std::exception&) {
-      return fail(error, gt_path + ": malformed row '" + line + "'");
+      return coral::fail(error, gt_path + ": malformed row '" + line + "'");
     }
   }
   T_prev_curr.push_back(Eigen::Isometry3d::Identity());
@@ -70,8 +70,9 @@ bool OxfordDataset::load(const std::string& dir, std::string* error) {
     }
     it = rel.find({stamps_us[i - 1], stamps_us[i]});  // reverse row: invert it
     if (it == rel.end())
-      return fail(error, gt_path + ": no GT row between scans " + std::to_string(stamps_us[i - 1]) +
-                             " and " + std::to_string(stamps_us[i]));
+      return coral::fail(error, gt_path + ": no GT row between scans " +
+                                    std::to_string(stamps_us[i - 1]) + " and " +
+                                    std::to_string(stamps_us[i]));
     T_prev_curr.push_back(it->second.inverse());
   }
   return true;
@@ -83,5 +84,5 @@ Eigen::Isometry3d OxfordDataset::T_first_scan(std::size_t i) const {
   return T;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -7,7 +7,7 @@
 #include "coral_introspection/eval/cloud_io.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 bool parseDatasetSpec(const std::string& text, DatasetSpec* spec, std::string* error) {
   std::string rest = text;
@@ -19,7 +19,7 @@ bool parseDatasetSpec(const std::string& text, DatasetSpec* spec, std::string* e
   }
   const std::size_t c = rest.find(':');
   if (c == std::string::npos || c + 1 >= rest.size())
-    return fail(error, "data set '" + text + "' is not [name=]kind:path");
+    return coral::fail(error, "data set '" + text + "' is not [name=]kind:path");
   spec->kind = rest.substr(0, c);
   spec->path = rest.substr(c + 1);
   for (const char* k : {"oxford", "keyframes", "carmen", "cloudlist", "bag"})
@@ -32,8 +32,8 @@ bool parseDatasetSpec(const std::string& text, DatasetSpec* spec, std::string* e
       }
       return true;
     }
-  return fail(error, "data set '" + text + "': unknown kind '" + spec->kind +
-                         "' (oxford, keyframes, carmen, cloudlist, bag)");
+  return coral::fail(error, "data set '" + text + "': unknown kind '" + spec->kind +
+                                "' (oxford, keyframes, carmen, cloudlist, bag)");
 }
 
 namespace {
@@ -53,7 +53,7 @@ bool isNumber(const std::string& s) {
 // number is a header.
 bool readCloudList(const std::string& path, std::vector<std::string>* names, std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   std::string line;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
     std::istringstream ls(line);
@@ -62,14 +62,14 @@ bool readCloudList(const std::string& path, std::vector<std::string>* names, std
     if (n == 1 && !isNumber(second)) continue;
     names->push_back(name.substr(name.find_first_not_of(" \t")));
   }
-  return names->size() >= 2 ? true : fail(error, path + ": fewer than two clouds listed");
+  return names->size() >= 2 ? true : coral::fail(error, path + ": fewer than two clouds listed");
 }
 
 bool loadCloudList(const std::string& path, const Progress& progress, PairDataset* out,
                    std::string* error) {
   std::vector<std::string> names;
   if (!readCloudList(path, &names, error)) return false;
-  Isometries poses(names.size());
+  coral::Isometries poses(names.size());
   for (std::size_t i = 0; i < names.size(); ++i) {
     LoadedCloud c;
     if (!readCsvPose(path, names[i], &poses[i], error) ||
@@ -91,7 +91,7 @@ bool loadPairDataset(const DatasetSpec& spec, const DatasetOptions& o, const Pro
                      PairDataset* out, std::string* error) {
   *out = PairDataset();
   out->name = spec.name;
-  Isometries poses;
+  coral::Isometries poses;
   std::string what = "consecutive";
   if (spec.kind == "oxford") {
     OxfordDataset ds;
@@ -121,7 +121,8 @@ bool loadPairDataset(const DatasetSpec& spec, const DatasetOptions& o, const Pro
                    std::to_string(out->pairs.size()) + " consecutive pair(s) (listed poses)";
     return true;
   } else {
-    return fail(error, "data set kind '" + spec.kind + "' needs the ROS tooling (coral_train)");
+    return coral::fail(error,
+                       "data set kind '" + spec.kind + "' needs the ROS tooling (coral_train)");
   }
   out->pairs = makePairs(poses, o.spacing);
   if (o.spacing > 0.0) what = "spacing >= " + std::to_string(o.spacing) + " m";
@@ -130,5 +131,5 @@ bool loadPairDataset(const DatasetSpec& spec, const DatasetOptions& o, const Pro
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -8,7 +8,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 PerturbationConfig PerturbationConfig::radarProtocol() { return PerturbationConfig(); }
 
@@ -20,7 +20,7 @@ PerturbationConfig PerturbationConfig::lidarProtocol() {
 }
 
 std::string PerturbationConfig::validate() const {
-  Problems p;
+  coral::Problems p;
   p.require(!(translations.empty() && rotations.empty()),
             "translations and rotations are both empty: no misaligned samples");
   for (double t : translations) p.require(t > 0.0 && std::isfinite(t), "translations", "> 0 m", t);
@@ -56,7 +56,7 @@ std::vector<Perturbation> makePerturbations(const PerturbationConfig& cfg) {
       p.dx = d.x * m;
       p.dy = d.y * m;
       p.dyaw = d.yaw_sign * cfg.combined_yaw;
-      p.delta = se2(p.dx, p.dy, p.dyaw);
+      p.delta = coral::se2(p.dx, p.dy, p.dyaw);
       out.push_back(p);
     }
   for (double r : cfg.rotations)
@@ -65,7 +65,7 @@ std::vector<Perturbation> makePerturbations(const PerturbationConfig& cfg) {
       p.name = sign > 0 ? "yaw+" : "yaw-";
       p.group = groupLabel(0.0, r);
       p.dyaw = sign * r;
-      p.delta = se2(0.0, 0.0, p.dyaw);
+      p.delta = coral::se2(0.0, 0.0, p.dyaw);
       out.push_back(p);
     }
   return out;
@@ -75,5 +75,5 @@ Eigen::Isometry3d perturb(const Eigen::Isometry3d& T_a_b, const Perturbation& p)
   return T_a_b * p.delta;  // offset applied in the sensor frame of the later scan b
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

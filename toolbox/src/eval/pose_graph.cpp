@@ -14,7 +14,7 @@
 #include "coral_introspection/eval/trajectory_metrics.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 namespace {
 
@@ -76,7 +76,7 @@ struct PlanarEdgeCost {
 }  // namespace
 
 std::string PoseGraphConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
       .require(std::isfinite(huber_loss) && huber_loss >= 0.0, "huber_loss",
@@ -88,17 +88,17 @@ std::string PoseGraphConfig::validate() const {
 }
 
 bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphConfig& cfg,
-                       Isometries* poses, PoseGraphResult* result) {
+                       coral::Isometries* poses, PoseGraphResult* result) {
   PoseGraphResult local;
   PoseGraphResult& res = result ? *result : local;
   res = PoseGraphResult();
   const std::string problems = cfg.validate();
-  if (!problems.empty()) return fail(&res.error, problems);
-  if (!poses || poses->empty()) return fail(&res.error, "pose graph without poses");
+  if (!problems.empty()) return coral::fail(&res.error, problems);
+  if (!poses || poses->empty()) return coral::fail(&res.error, "pose graph without poses");
   if (!cfg.loop_sigma_schedule.empty()) {  // the continuation stages, then the solve below
     PoseGraphConfig stage_cfg = cfg;
     stage_cfg.loop_sigma_schedule.clear();
-    Isometries staged = *poses;  // *poses untouched when a stage fails
+    coral::Isometries staged = *poses;  // *poses untouched when a stage fails
     int iterations = 0;
     for (double f : cfg.loop_sigma_schedule) {
       std::vector<PoseGraphEdge> soft = edges;
@@ -120,12 +120,12 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
     const PoseGraphEdge& e = edges[k];
     const std::string name = "edge " + std::to_string(k) + ": ";
     if (e.from < 0 || e.from >= n || e.to < 0 || e.to >= n || e.from == e.to)
-      return fail(&res.error, name + "indices " + std::to_string(e.from) + " -> " +
-                                  std::to_string(e.to) + " invalid for " + std::to_string(n) +
-                                  " poses");
+      return coral::fail(&res.error, name + "indices " + std::to_string(e.from) + " -> " +
+                                         std::to_string(e.to) + " invalid for " +
+                                         std::to_string(n) + " poses");
     if (!(e.sigma_translation > 0.0 && e.sigma_rotation > 0.0) ||
         !std::isfinite(e.sigma_translation) || !std::isfinite(e.sigma_rotation))
-      return fail(&res.error, name + "sigmas must be finite and > 0");
+      return coral::fail(&res.error, name + "sigmas must be finite and > 0");
   }
 
   const bool planar = cfg.dimension == 2;
@@ -186,7 +186,7 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
   res.final_cost = summary.final_cost;
   res.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
   res.converged = summary.termination_type == ceres::CONVERGENCE;
-  if (!summary.IsSolutionUsable()) return fail(&res.error, "ceres: " + summary.message);
+  if (!summary.IsSolutionUsable()) return coral::fail(&res.error, "ceres: " + summary.message);
 
   for (int k = 1; k < n; ++k) {
     Eigen::Isometry3d& T = (*poses)[k];
@@ -205,8 +205,8 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
   return true;
 }
 
-std::vector<PoseGraphEdge> odometryEdges(const Isometries& odom_poses, double sigma_translation,
-                                         double sigma_rotation) {
+std::vector<PoseGraphEdge> odometryEdges(const coral::Isometries& odom_poses,
+                                         double sigma_translation, double sigma_rotation) {
   std::vector<PoseGraphEdge> edges;
   for (std::size_t k = 1; k < odom_poses.size(); ++k) {
     PoseGraphEdge e;
@@ -220,8 +220,8 @@ std::vector<PoseGraphEdge> odometryEdges(const Isometries& odom_poses, double si
   return edges;
 }
 
-double absoluteTrajectoryError(const Isometries& estimate, const Isometries& reference,
-                               int dimension) {
+double absoluteTrajectoryError(const coral::Isometries& estimate,
+                               const coral::Isometries& reference, int dimension) {
   const std::size_t n = estimate.size();
   if (n == 0 || n != reference.size()) return std::numeric_limits<double>::quiet_NaN();
   if (dimension != 2) {
@@ -263,30 +263,30 @@ double absoluteTrajectoryError(const Isometries& estimate, const Isometries& ref
 }
 
 bool writeTumTrajectory(const std::string& path, const std::vector<double>& stamps,
-                        const Isometries& poses, std::string* error) {
+                        const coral::Isometries& poses, std::string* error) {
   if (stamps.size() != poses.size())
-    return fail(error, path + ": " + std::to_string(stamps.size()) + " stamps for " +
-                           std::to_string(poses.size()) + " poses");
+    return coral::fail(error, path + ": " + std::to_string(stamps.size()) + " stamps for " +
+                                  std::to_string(poses.size()) + " poses");
   std::vector<StampedPose> trajectory(poses.size());
   for (std::size_t k = 0; k < poses.size(); ++k) {
     trajectory[k].t = stamps[k];
     trajectory[k].p = poses[k].translation();
     trajectory[k].q = Eigen::Quaterniond(poses[k].linear()).normalized();
   }
-  return writeTum(path, trajectory, error) || fail(error, "cannot write " + path);
+  return writeTum(path, trajectory, error) || coral::fail(error, "cannot write " + path);
 }
 
-bool writeKittiPoses(const std::string& path, const Isometries& poses, std::string* error) {
+bool writeKittiPoses(const std::string& path, const coral::Isometries& poses, std::string* error) {
   std::ofstream out(path);
-  if (!out) return fail(error, "cannot write " + path);
+  if (!out) return coral::fail(error, "cannot write " + path);
   out << std::setprecision(12);
   for (const Eigen::Isometry3d& T : poses) {
     const Eigen::Matrix<double, 3, 4> M = T.matrix().topRows<3>();
     for (int i = 0; i < 12; ++i) out << M(i / 4, i % 4) << (i == 11 ? '\n' : ' ');
   }
   out.close();
-  return !out.fail() || fail(error, "error while writing " + path);
+  return !out.fail() || coral::fail(error, "error while writing " + path);
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -8,7 +8,7 @@
 #include "coral_introspection/coral/statistics.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 void RioRun::add(const std::vector<rio::FrameReport>& reports) {
   for (const rio::FrameReport& r : reports) {
@@ -40,7 +40,7 @@ std::string RioRun::summary(double wall_seconds, double duration) const {
   if (!solve.empty()) {
     double mean = 0;
     for (double x : solve) mean += x;
-    s << "solver time per frame: median " << quantile(solve, 0.5) << " ms, mean "
+    s << "solver time per frame: median " << coral::quantile(solve, 0.5) << " ms, mean "
       << mean / solve.size() << " ms\n";
   }
   if (wall_seconds > 0 && !reports_.empty()) {
@@ -74,5 +74,5 @@ bool RioRun::writeReports(const std::string& path, std::string* error) const {
   return static_cast<bool>(out);
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -5,7 +5,7 @@
 #include <sstream>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 bool writeRioSequence(const std::string& path, const RioSequence& seq, std::string* error) {
   std::ofstream out(path);
@@ -111,5 +111,5 @@ bool readRioSequence(const std::string& path, RioSequence* seq, std::string* err
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

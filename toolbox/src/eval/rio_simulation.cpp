@@ -5,7 +5,7 @@
 #include <random>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 using rio::Mat3;
 using rio::Quat;
@@ -17,7 +17,7 @@ RioSimConfig RioSimConfig::handheld(unsigned seed) {
   // The TI recording's mounting: boresight about 45 deg right, 9 deg down, upside down.
   c.extrinsics.R =
       Quat(0.033880048164, -0.918681231167, 0.386946837543, 0.071757109423).toRotationMatrix();
-  c.extrinsics.t = Vec3(0.03, 0.03, -0.06);
+  c.extrinsics.t = coral::Vec3(0.03, 0.03, -0.06);
   // About as many points per frame as the TI radar gives (40-60).
   c.num_reflectors = 250;
   c.max_points = 60;
@@ -30,8 +30,8 @@ RioSimConfig RioSimConfig::vehicle(unsigned seed) {
   c.trajectory = SimTrajectory::kVehicle;
   c.duration = 60.0;
   c.static_start = c.static_end = 3.0;
-  c.extrinsics.t = Vec3(1.5, 0.0, 0.5);  // forward-looking radar at the front bumper
-  c.point_noise = {0.05, 0.01, 0.01};    // automotive 4D radar
+  c.extrinsics.t = coral::Vec3(1.5, 0.0, 0.5);  // forward-looking radar at the front bumper
+  c.point_noise = {0.05, 0.01, 0.01};           // automotive 4D radar
   c.sigma_doppler = 0.05;
   c.max_range = 40.0;
   c.half_fov_elevation = 0.26;
@@ -51,8 +51,9 @@ double phase(const RioSimConfig& c, double t) {
 }
 
 Quat rpy(double roll, double pitch, double yaw) {
-  return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch, Vec3::UnitY()) *
-              Eigen::AngleAxisd(roll, Vec3::UnitX()));
+  return Quat(Eigen::AngleAxisd(yaw, coral::Vec3::UnitZ()) *
+              Eigen::AngleAxisd(pitch, coral::Vec3::UnitY()) *
+              Eigen::AngleAxisd(roll, coral::Vec3::UnitX()));
 }
 
 }  // namespace
@@ -65,14 +66,15 @@ StampedPose simulatedPose(const RioSimConfig& c, double t) {
     // Loops in a 4 x 3 m area at hand height, one net left turn plus wiggles, +-15 deg
     // roll / pitch; env vanishes (with its derivatives) at rest.
     const double env = std::pow(std::sin(M_PI * u), 2);
-    p.p = Vec3(0, 0, 1.2) + env * Vec3(2.0 * std::sin(tau * 3 * u), 1.5 * std::sin(tau * 2 * u),
-                                       0.2 * std::sin(tau * 5 * u));
+    p.p = coral::Vec3(0, 0, 1.2) + env * Vec3(2.0 * std::sin(tau * 3 * u),
+                                              1.5 * std::sin(tau * 2 * u),
+                                              0.2 * std::sin(tau * 5 * u));
     p.q = rpy(env * 0.25 * std::sin(tau * 3 * u + 1.0), env * 0.2 * std::sin(tau * 5 * u + 2.0),
               tau * u + env * 0.8 * std::sin(tau * 6 * u));
   } else {
     // A figure eight (50 x 24 m) driven once, heading along the path tangent.
     const double th = tau * u;
-    p.p = Vec3(25.0 * std::sin(th), 12.0 * std::sin(2 * th), 0.5);
+    p.p = coral::Vec3(25.0 * std::sin(th), 12.0 * std::sin(2 * th), 0.5);
     const double yaw = std::atan2(24.0 * std::cos(2 * th), 25.0 * std::cos(th));
     const double env = std::pow(std::sin(M_PI * u), 2);
     p.q = rpy(env * 0.03 * std::sin(tau * 4 * u), env * 0.02 * std::sin(tau * 7 * u), yaw);
@@ -84,7 +86,7 @@ namespace {
 
 struct Kinematics {
   StampedPose pose;
-  Vec3 v, a, omega;  // world velocity, world acceleration, body rate
+  coral::Vec3 v, a, omega;  // world velocity, world acceleration, body rate
 };
 
 // Derivatives by central differences of the smooth analytic pose (h = 1 ms: errors far
@@ -101,30 +103,30 @@ Kinematics kinematics(const RioSimConfig& c, double t) {
   return k;
 }
 
-Points reflectors(const RioSimConfig& c, std::mt19937& rng) {
+coral::Points reflectors(const RioSimConfig& c, std::mt19937& rng) {
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  Points out;
+  coral::Points out;
   if (c.trajectory == SimTrajectory::kHandheld) {
     // Walls of a 10 x 8 m room (0-3 m high) and a few pieces of furniture.
     for (int i = 0; i < c.num_reflectors; ++i) {
       const double z = 3.0 * U(rng);
       const double s = U(rng);
-      Vec3 p;
+      coral::Vec3 p;
       switch (i % 5) {
         case 0:
-          p = Vec3(-5 + 10 * s, -4, z);
+          p = coral::Vec3(-5 + 10 * s, -4, z);
           break;
         case 1:
-          p = Vec3(-5 + 10 * s, 4, z);
+          p = coral::Vec3(-5 + 10 * s, 4, z);
           break;
         case 2:
-          p = Vec3(-5, -4 + 8 * s, z);
+          p = coral::Vec3(-5, -4 + 8 * s, z);
           break;
         case 3:
-          p = Vec3(5, -4 + 8 * s, z);
+          p = coral::Vec3(5, -4 + 8 * s, z);
           break;
         default:
-          p = Vec3(-4.5 + 9 * U(rng), -3.5 + 7 * U(rng), 1.5 * U(rng));
+          p = coral::Vec3(-4.5 + 9 * U(rng), -3.5 + 7 * U(rng), 1.5 * U(rng));
           break;
       }
       // Keep the walking area (|x| < 2.6, |y| < 2.1) free of furniture.
@@ -134,10 +136,10 @@ Points reflectors(const RioSimConfig& c, std::mt19937& rng) {
   } else {
     // Objects scattered over 80 x 50 m, none within 3 m of the road.
     while (static_cast<int>(out.size()) < c.num_reflectors) {
-      const Vec3 p(-40 + 80 * U(rng), -25 + 50 * U(rng), 4.0 * U(rng));
+      const coral::Vec3 p(-40 + 80 * U(rng), -25 + 50 * U(rng), 4.0 * U(rng));
       double dmin = 1e9;
       for (int k = 0; k < 200; ++k) {
-        const Vec3 q =
+        const coral::Vec3 q =
             simulatedPose(c,
                           c.static_start + (c.duration - c.static_start - c.static_end) * k / 199.0)
                 .p;
@@ -170,14 +172,14 @@ RioSequence simulateRio(const RioSimConfig& c) {
   std::mt19937 rng(c.seed);
   std::normal_distribution<double> N(0.0, 1.0);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  auto gauss = [&] { return Vec3(N(rng), N(rng), N(rng)); };
+  auto gauss = [&] { return coral::Vec3(N(rng), N(rng), N(rng)); };
   RioSequence seq;
-  const Points world = reflectors(c, rng);
+  const coral::Points world = reflectors(c, rng);
 
   // IMU: specific force R^T (a + g e_z) and body rate, plus biases and white noise.
   const double dt = 1.0 / c.imu_rate;
-  Vec3 ba = c.acc_bias, bg = c.gyro_bias;
-  const Vec3 g(0, 0, c.imu_noise.gravity);
+  coral::Vec3 ba = c.acc_bias, bg = c.gyro_bias;
+  const coral::Vec3 g(0, 0, c.imu_noise.gravity);
   for (int k = 0; k * dt <= c.duration + 1e-9; ++k) {
     const double t = k * dt;
     const Kinematics kin = kinematics(c, t);
@@ -193,19 +195,19 @@ RioSequence simulateRio(const RioSimConfig& c) {
 
   // Radar frames: visible reflectors with polar noise; Doppler of a static point is
   // -d^T v_radar (positive away from the sensor), movers get an extra radial velocity.
-  const RadarNoiseConfig& pn = c.point_noise;
+  const radar::RadarNoiseConfig& pn = c.point_noise;
   for (int k = 1; k / c.radar_rate <= c.duration - 1e-9; ++k) {
     const double t = k / c.radar_rate;
     const Kinematics kin = kinematics(c, t);
-    const Mat3 R = kin.pose.q.toRotationMatrix();
-    const Mat3 R_wr = R * c.extrinsics.R;
-    const Vec3 p_wr = kin.pose.p + R * c.extrinsics.t;
+    const coral::Mat3 R = kin.pose.q.toRotationMatrix();
+    const coral::Mat3 R_wr = R * c.extrinsics.R;
+    const coral::Vec3 p_wr = kin.pose.p + R * c.extrinsics.t;
     // Radar velocity in the radar frame (Eq. 9): R_E^T (R^T v + omega x t_E).
-    const Vec3 v_radar =
+    const coral::Vec3 v_radar =
         c.extrinsics.R.transpose() * (R.transpose() * kin.v + kin.omega.cross(c.extrinsics.t));
-    std::vector<std::pair<double, Vec3>> visible;  // (range, point in the radar frame)
-    for (const Vec3& w : world) {
-      const Vec3 p = R_wr.transpose() * (w - p_wr);
+    std::vector<std::pair<double, coral::Vec3>> visible;  // (range, point in the radar frame)
+    for (const coral::Vec3& w : world) {
+      const coral::Vec3 p = R_wr.transpose() * (w - p_wr);
       const double r = p.norm();
       if (r < 0.5 || r > c.max_range) continue;
       if (std::abs(std::atan2(p.y(), p.x())) > c.half_fov_azimuth) continue;
@@ -218,7 +220,7 @@ RioSequence simulateRio(const RioSimConfig& c) {
     if (static_cast<int>(visible.size()) > c.max_points) visible.resize(c.max_points);
     rio::RadarFrame f;
     f.t = t;
-    auto emit = [&](const Vec3& p, double extra_vr) {
+    auto emit = [&](const coral::Vec3& p, double extra_vr) {
       const double r = p.norm(), az = std::atan2(p.y(), p.x()), el = std::asin(p.z() / r);
       const double rn = r + pn.sigma_range * N(rng), azn = az + pn.sigma_azimuth * N(rng),
                    eln = el + pn.sigma_elevation * N(rng);
@@ -243,5 +245,5 @@ RioSequence simulateRio(const RioSimConfig& c) {
   return seq;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -9,7 +9,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 namespace {
 
@@ -36,14 +36,15 @@ bool number(const std::string& s, double* v) {
 
 bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error) {
   std::ifstream in(path);
-  if (!in) return fail(error, "cannot open " + path);
+  if (!in) return coral::fail(error, "cannot open " + path);
   std::string line;
-  if (!std::getline(in, line)) return fail(error, path + ": empty file");
+  if (!std::getline(in, line)) return coral::fail(error, path + ": empty file");
   const std::vector<std::string> head = splitCommas(line);
   const std::vector<std::string> fixed = {"pair", "stamp_a", "stamp_b", "offset", "dx",
                                           "dy",   "dyaw",    "group",   "label"};
   if (head.size() < fixed.size() || !std::equal(fixed.begin(), fixed.end(), head.begin()))
-    return fail(error, path + ": not a samples file (header starts with " + head.front() + ")");
+    return coral::fail(error,
+                       path + ": not a samples file (header starts with " + head.front() + ")");
   std::size_t first_feature = fixed.size();
   const bool with_dataset = head.size() > fixed.size() && head[fixed.size()] == "dataset";
   if (with_dataset) ++first_feature;
@@ -51,7 +52,7 @@ bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error)
   std::vector<int> method_of;  // column -> method index
   for (std::size_t c = first_feature; c < head.size(); ++c) {
     const std::size_t slash = head[c].find('/');
-    if (slash == std::string::npos) return fail(error, path + ": column '" + head[c] + "'");
+    if (slash == std::string::npos) return coral::fail(error, path + ": column '" + head[c] + "'");
     const std::string m = head[c].substr(0, slash);
     if (set->methods.empty() || set->methods.back().name != m) set->methods.push_back({m, {}});
     set->methods.back().feature_names.push_back(head[c].substr(slash + 1));
@@ -61,13 +62,13 @@ bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error)
     if (line.empty()) continue;
     const std::vector<std::string> f = splitCommas(line);
     const std::string where = path + ":" + std::to_string(n);
-    if (f.size() != head.size()) return fail(error, where + ": wrong number of columns");
+    if (f.size() != head.size()) return coral::fail(error, where + ": wrong number of columns");
     Sample s;
     double v[6];
     for (int i : {0, 1, 2, 4, 5, 6})
-      if (!number(f[i], &v[i < 3 ? i : i - 1])) return fail(error, where + ": bad number");
+      if (!number(f[i], &v[i < 3 ? i : i - 1])) return coral::fail(error, where + ": bad number");
     double label = 0.0;
-    if (!number(f[8], &label)) return fail(error, where + ": bad label");
+    if (!number(f[8], &label)) return coral::fail(error, where + ": bad label");
     s.pair = static_cast<int>(v[0]);
     s.stamp_a = v[1];
     s.stamp_b = v[2];
@@ -81,7 +82,7 @@ bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error)
     s.features.resize(set->methods.size());
     for (std::size_t c = first_feature; c < f.size(); ++c) {
       double x = 0.0;
-      if (!number(f[c], &x)) return fail(error, where + ": bad feature '" + f[c] + "'");
+      if (!number(f[c], &x)) return coral::fail(error, where + ": bad feature '" + f[c] + "'");
       s.features[method_of[c - first_feature]].push_back(x);
     }
     if (!s.group.empty() &&
@@ -100,14 +101,15 @@ bool mergeSampleSets(SampleSet* into, const SampleSet& part, std::string* error)
     for (std::size_t m = 0; same && m < part.methods.size(); ++m)
       same = into->methods[m].name == part.methods[m].name &&
              into->methods[m].feature_names == part.methods[m].feature_names;
-    if (!same) return fail(error, "sample sets with different methods/features cannot be merged");
+    if (!same)
+      return coral::fail(error, "sample sets with different methods/features cannot be merged");
   }
   std::set<std::pair<std::string, int>> have;
   for (const Sample& s : into->samples) have.insert({s.dataset, s.pair});
   for (const Sample& s : part.samples)
     if (have.count({s.dataset, s.pair}))
-      return fail(error, "pair " + std::to_string(s.pair) + " of data set '" + s.dataset +
-                             "' occurs in two sample files");
+      return coral::fail(error, "pair " + std::to_string(s.pair) + " of data set '" + s.dataset +
+                                    "' occurs in two sample files");
   for (const std::string& g : part.groups)
     if (std::find(into->groups.begin(), into->groups.end(), g) == into->groups.end())
       into->groups.push_back(g);
@@ -122,5 +124,5 @@ bool mergeSampleSets(SampleSet* into, const SampleSet& part, std::string* error)
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

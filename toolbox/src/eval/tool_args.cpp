@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string ToolArgs::get(const std::string& option, const std::string& fallback) const {
   const auto it = values.find(option);
@@ -134,5 +134,5 @@ bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, 
   return false;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

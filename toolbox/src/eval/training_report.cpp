@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/metrics.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 bool writeTextFile(const std::string& path, const std::string& text, std::string* error) {
   std::ofstream f(path);
@@ -46,9 +46,9 @@ bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string*
   return writeTextFile(path, s.str(), error);
 }
 
-bool writeClassifierYaml(const std::string& path, const ClassifierConfig& c,
+bool writeClassifierYaml(const std::string& path, const coral::ClassifierConfig& c,
                          const std::vector<std::string>& comments, std::string* error) {
-  return writeTextFile(path, classifierYaml(c, comments), error);
+  return writeTextFile(path, coral::classifierYaml(c, comments), error);
 }
 
 namespace {
@@ -123,7 +123,7 @@ bool writeRocPng(const std::string& path, const std::vector<EvaluationRow>& rows
     for (const EvaluationRow& r : rows) {
       if (gi >= static_cast<int>(groups.size()) || r.group != groups[gi]) continue;
       const cv::Scalar c = colours[k++ % 9];
-      const std::vector<RocPoint> roc = rocCurve(r.scores, r.labels);
+      const std::vector<coral::RocPoint> roc = coral::rocCurve(r.scores, r.labels);
       for (std::size_t i = 1; i < roc.size(); ++i)
         cv::line(img, px(roc[i - 1].fpr, roc[i - 1].tpr), px(roc[i].fpr, roc[i].tpr), c, 2,
                  cv::LINE_AA);
@@ -142,5 +142,5 @@ bool writeRocPng(const std::string& path, const std::vector<EvaluationRow>& rows
   return ok;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

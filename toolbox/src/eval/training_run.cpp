@@ -10,7 +10,7 @@
 #include "coral_introspection/eval/training_report.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 std::string TrainingRunConfig::validate() const {
   if (output_dir.empty()) return "output_dir must not be empty";
@@ -64,7 +64,7 @@ bool runTraining(const SampleSet& set, const SampleSet* test_set, const Training
   if (!fitMethod(set, method, res->classifier_group, cfg.evaluation.regression, &res->classifier,
                  &err))
     return fail("classifier fit: " + err);
-  const ClassifierConfig cc = res->classifier.toClassifierConfig();
+  const coral::ClassifierConfig cc = res->classifier.toClassifierConfig();
 
   std::ostringstream prov;
   int pairs = 0;
@@ -115,5 +115,5 @@ bool runTraining(const SampleSet& set, const SampleSet* test_set, const Training
   return writeTextFile(cfg.output_dir + "/report.md", res->report, error);
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

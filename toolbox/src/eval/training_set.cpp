@@ -5,11 +5,11 @@
 #include <limits>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 FeatureConfig FeatureConfig::radar() {
   FeatureConfig c;
-  c.coral = CoralConfig::radarPaper();  // Sec. V-A c
+  c.coral = coral::CoralConfig::radarPaper();  // Sec. V-A c
   c.coral.per_point = false;
   c.ndt.dimension = 2;
   c.ndt.voxel_size = 2.0;  // v = 2 r (Sec. IV-1 d)
@@ -50,7 +50,7 @@ std::vector<MethodSpec> methodSpecs(const FeatureConfig& cfg) {
   return m;
 }
 
-std::vector<ScanPair> makePairs(const Isometries& T, double min_spacing) {
+std::vector<ScanPair> makePairs(const coral::Isometries& T, double min_spacing) {
   std::vector<ScanPair> pairs;
   for (std::size_t a = 0; a + 1 < T.size(); ++a) {
     std::size_t b = a + 1;
@@ -68,18 +68,19 @@ std::vector<std::vector<double>> computeFeatures(const TrainingScan& a, const Tr
                                                  const Eigen::Isometry3d& T_a_b,
                                                  const FeatureConfig& cfg) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const Scan b_in_a = transformScan(b.scan, T_a_b);  // origin moves with it (dynamic radius)
-  const CoralResult mean = computeCoral(a.scan, b_in_a, cfg.coral);
-  CoralConfig median_cfg = cfg.coral;
-  median_cfg.aggregation = Aggregation::kMedian;
-  const CoralResult median = computeCoral(a.scan, b_in_a, median_cfg);
+  const coral::Scan b_in_a =
+      coral::transformScan(b.scan, T_a_b);  // origin moves with it (dynamic radius)
+  const coral::CoralResult mean = coral::computeCoral(a.scan, b_in_a, cfg.coral);
+  coral::CoralConfig median_cfg = cfg.coral;
+  median_cfg.aggregation = coral::Aggregation::kMedian;
+  const coral::CoralResult median = coral::computeCoral(a.scan, b_in_a, median_cfg);
   const NdtResult ndt = computeNdtScore(a.scan.points, b_in_a.points, cfg.ndt);
 
   std::vector<std::vector<double>> f;
   f.push_back(mean.valid ? std::vector<double>{mean.h_joint, mean.h_sep}
                          : std::vector<double>{nan, nan});
-  f.push_back(median.valid ? std::vector<double>{median.h_joint, median.h_sep}
-                           : std::vector<double>{nan, nan});
+  f.push_back(coral::median.valid ? std::vector<double>{coral::median.h_joint, coral::median.h_sep}
+                                  : std::vector<double>{nan, nan});
   f.push_back({mean.num_points_a + mean.num_points_b > 0 ? mean.mme : nan});
   f.push_back({ndt.valid ? ndt.score : nan});
   f.push_back(ndt.valid ? std::vector<double>{ndt.score, ndt.entropy}
@@ -145,5 +146,5 @@ bool buildSampleSet(const std::vector<TrainingScan>& scans, const std::vector<Sc
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

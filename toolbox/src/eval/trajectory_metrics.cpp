@@ -8,7 +8,7 @@
 #include <sstream>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 namespace {
 using rio::Mat3;
@@ -53,17 +53,17 @@ TrajectoryErrors trajectoryErrors(const std::vector<StampedPose>& estimate,
   e.pairs = static_cast<int>(est.size());
   if (e.pairs < 2) return e;
   // Umeyama (no scale): R, t minimising sum |gt - (R est + t)|^2.
-  Mat3 R = Mat3::Identity();
-  Vec3 t = Vec3::Zero();
+  coral::Mat3 R = coral::Mat3::Identity();
+  coral::Vec3 t = coral::Vec3::Zero();
   if (align) {
-    Vec3 me = Vec3::Zero(), mg = Vec3::Zero();
+    coral::Vec3 me = coral::Vec3::Zero(), mg = coral::Vec3::Zero();
     for (int k = 0; k < e.pairs; ++k) me += est[k].p, mg += gt[k].p;
     me /= e.pairs;
     mg /= e.pairs;
-    Mat3 C = Mat3::Zero();
+    coral::Mat3 C = coral::Mat3::Zero();
     for (int k = 0; k < e.pairs; ++k) C += (gt[k].p - mg) * (est[k].p - me).transpose();
-    Eigen::JacobiSVD<Mat3> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Mat3 S = Mat3::Identity();
+    Eigen::JacobiSVD<coral::Mat3> svd(C, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    coral::Mat3 S = coral::Mat3::Identity();
     if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) S(2, 2) = -1;
     R = svd.matrixU() * S * svd.matrixV().transpose();
     t = mg - R * me;
@@ -81,9 +81,9 @@ TrajectoryErrors trajectoryErrors(const std::vector<StampedPose>& estimate,
   for (int k = 1; k < e.pairs; ++k) {
     // E = (T_gt,k^-1 T_gt,k+1)^-1 (T_est,k^-1 T_est,k+1)
     const Quat dqe = est[k - 1].q.conjugate() * est[k].q;
-    const Vec3 dpe = est[k - 1].q.conjugate() * (est[k].p - est[k - 1].p);
+    const coral::Vec3 dpe = est[k - 1].q.conjugate() * (est[k].p - est[k - 1].p);
     const Quat dqg = gt[k - 1].q.conjugate() * gt[k].q;
-    const Vec3 dpg = gt[k - 1].q.conjugate() * (gt[k].p - gt[k - 1].p);
+    const coral::Vec3 dpg = gt[k - 1].q.conjugate() * (gt[k].p - gt[k - 1].p);
     st += (dqg.conjugate() * (dpe - dpg)).squaredNorm();
     const double a = angleDeg(dqg.conjugate() * dqe);
     sr += a * a;
@@ -96,11 +96,11 @@ TrajectoryErrors trajectoryErrors(const std::vector<StampedPose>& estimate,
 LoopError loopError(const std::vector<StampedPose>& tr) {
   LoopError e;
   if (tr.size() < 2) return e;
-  const Vec3 d = tr.back().p - tr.front().p;
+  const coral::Vec3 d = tr.back().p - tr.front().p;
   e.horizontal = d.head<2>().norm();
   e.vertical = d.z();
   auto yaw = [](const Quat& q) {
-    const Mat3 R = q.toRotationMatrix();
+    const coral::Mat3 R = q.toRotationMatrix();
     return std::atan2(R(1, 0), R(0, 0));
   };
   double dy = yaw(tr.back().q) - yaw(tr.front().q);
@@ -147,5 +147,5 @@ bool readTum(const std::string& path, std::vector<StampedPose>* trajectory, std:
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -9,13 +9,14 @@
 #include "coral_introspection/eval/verdict_samples.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
-const VerdictMethod kVerdictMethods[3] = {VerdictMethod::kClassifier, VerdictMethod::kRelative,
-                                          VerdictMethod::kBoth};
+const coral::VerdictMethod kVerdictMethods[3] = {coral::VerdictMethod::kClassifier,
+                                                 coral::VerdictMethod::kRelative,
+                                                 coral::VerdictMethod::kBoth};
 
 std::string VerdictEvalConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .nested("evaluation", evaluation.validate())
       .nested("relative", relative.validate())
       .str();
@@ -58,12 +59,12 @@ bool finiteCoral(const Sample& s) {
 
 // Classifier probabilities for `test` from a fit on `train` (NaN where untestable).
 void classifierOpinions(const SampleSet& set, const std::vector<int>& train,
-                        const std::vector<int>& test, const LogisticRegressionConfig& cfg,
+                        const std::vector<int>& test, const coral::LogisticRegressionConfig& cfg,
                         std::vector<double>* p) {
   std::vector<int> fit_idx;
   for (int i : train)
     if (finiteCoral(set.samples[i])) fit_idx.push_back(i);
-  LogisticModel model;
+  coral::LogisticModel model;
   std::string err;
   const bool ok = fitSamples(set, 0, fit_idx, cfg, &model, &err);
   for (int i : test)
@@ -74,11 +75,11 @@ void classifierOpinions(const SampleSet& set, const std::vector<int>& train,
 }
 
 // Fills p[1], p[2] from the classifier's p[0] and the relative results; then the rows.
-void finishScenario(const SampleSet& set, const std::vector<RelativeCheckResult>& rel,
-                    const RelativeCheckConfig& rcfg, double threshold, VerdictScenario* sc) {
+void finishScenario(const SampleSet& set, const std::vector<coral::RelativeCheckResult>& rel,
+                    const coral::RelativeCheckConfig& rcfg, double threshold, VerdictScenario* sc) {
   for (std::size_t k = 0; k < sc->samples.size(); ++k) {
-    const RelativeCheckResult& r = rel[sc->samples[k]];
-    const double pr = r.valid ? relativeProbability(r, rcfg) : kNaN;
+    const coral::RelativeCheckResult& r = rel[sc->samples[k]];
+    const double pr = r.valid ? coral::relativeProbability(r, rcfg) : kNaN;
     sc->p[1].push_back(pr);
     sc->p[2].push_back(std::isfinite(pr) && std::isfinite(sc->p[0][k]) ? std::min(pr, sc->p[0][k])
                                                                        : kNaN);
@@ -86,7 +87,7 @@ void finishScenario(const SampleSet& set, const std::vector<RelativeCheckResult>
   for (int m = 0; m < 3; ++m)
     for (const std::string g : {"all", kTranslationGroup, kRotationGroup}) {
       EvaluationRow row;
-      row.method = verdictMethodName(kVerdictMethods[m]);
+      row.method = coral::verdictMethodName(kVerdictMethods[m]);
       row.group = g;
       std::vector<int> scored;
       for (std::size_t k = 0; k < sc->samples.size(); ++k) {
@@ -114,21 +115,23 @@ std::vector<int> concat(const std::vector<Part>& parts, std::size_t except) {
 
 }  // namespace
 
-std::vector<RelativeCheckResult> relativeResults(const SampleSet& set,
-                                                 const RelativeCheckConfig& cfg) {
-  std::vector<RelativeCheckResult> out;
+std::vector<coral::RelativeCheckResult> relativeResults(const SampleSet& set,
+                                                        const coral::RelativeCheckConfig& cfg) {
+  std::vector<coral::RelativeCheckResult> out;
   const int dim = set.methods.size() > 1 && set.methods[1].feature_names.size() == 7 ? 2 : 3;
-  const std::vector<ToleranceOffset> offsets = toleranceOffsets(ToleranceConfig(), dim);
+  const std::vector<coral::ToleranceOffset> offsets =
+      coral::toleranceOffsets(coral::ToleranceConfig(), dim);
   for (const Sample& s : set.samples) {
     const std::vector<double>& q = s.features[1];
-    out.push_back(decideRelative(q[0], offsets, std::vector<double>(q.begin() + 1, q.end()), cfg));
+    out.push_back(
+        coral::decideRelative(q[0], offsets, std::vector<double>(q.begin() + 1, q.end()), cfg));
   }
   return out;
 }
 
 bool evaluateVerdicts(const SampleSet& set, const VerdictEvalConfig& cfg, VerdictEvaluation* out,
                       std::string* error) {
-  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
   const std::vector<MethodSpec> expect2 = verdictMethods(2), expect3 = verdictMethods(3);
   auto same = [&](const std::vector<MethodSpec>& e) {
     if (set.methods.size() != e.size()) return false;
@@ -138,13 +141,13 @@ bool evaluateVerdicts(const SampleSet& set, const VerdictEvalConfig& cfg, Verdic
     return true;
   };
   if (!same(expect2) && !same(expect3))
-    return fail(error, "not a verdict sample set (methods CorAl and Relative expected)");
-  if (set.samples.empty()) return fail(error, "no samples");
+    return coral::fail(error, "not a verdict sample set (methods CorAl and Relative expected)");
+  if (set.samples.empty()) return coral::fail(error, "no samples");
   *out = VerdictEvaluation();
   const std::vector<Part> parts = dataParts(set);
   for (const Part& p : parts) out->datasets.push_back(p.name);
-  const std::vector<RelativeCheckResult> rel = relativeResults(set, cfg.relative);
-  const LogisticRegressionConfig& lr = cfg.evaluation.regression;
+  const std::vector<coral::RelativeCheckResult> rel = relativeResults(set, cfg.relative);
+  const coral::LogisticRegressionConfig& lr = cfg.evaluation.regression;
   const double t = lr.threshold;
 
   for (const Part& part : parts) {  // in-data-set: contiguous folds over its pairs
@@ -198,5 +201,5 @@ bool evaluateVerdicts(const SampleSet& set, const VerdictEvalConfig& cfg, Verdic
   return fitSamples(set, 0, all, lr, &out->classifier, error);
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

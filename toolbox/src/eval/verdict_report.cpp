@@ -10,7 +10,7 @@
 #include "coral_introspection/eval/training_report.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 namespace {
 
@@ -23,7 +23,7 @@ std::string f2(double v) {
 
 std::string cell(const VerdictScenario& sc, int method, const std::string& group = "all") {
   for (const EvaluationRow& r : sc.rows)
-    if (r.method == verdictMethodName(kVerdictMethods[method]) && r.group == group)
+    if (r.method == coral::verdictMethodName(kVerdictMethods[method]) && r.group == group)
       return f2(r.accuracy) + " / " + f2(r.auc);
   return "n/a";
 }
@@ -69,16 +69,16 @@ void directionTable(std::ostringstream& s, const SampleSet& set, const VerdictEv
 // Relative check: correction hint right (points back to the truth) and flat axes.
 void relativeDiagnostics(std::ostringstream& s, const SampleSet& set,
                          const VerdictEvalConfig& cfg) {
-  const std::vector<RelativeCheckResult> rel = relativeResults(set, cfg.relative);
+  const std::vector<coral::RelativeCheckResult> rel = relativeResults(set, cfg.relative);
   int detected = 0, hint_ok = 0, aligned = 0;
   std::map<std::string, int> flat;
   for (std::size_t i = 0; i < set.samples.size(); ++i) {
     const Sample& x = set.samples[i];
-    const RelativeCheckResult& r = rel[i];
+    const coral::RelativeCheckResult& r = rel[i];
     if (!r.valid) continue;
     if (x.label == 1) {
       ++aligned;
-      for (Axis a : r.flat_axes) ++flat[axisName(a)];
+      for (coral::Axis a : r.flat_axes) ++flat[coral::axisName(a)];
     } else if (r.misaligned) {
       ++detected;
       std::string back = x.offset;  // the step back to the truth: same axis, other sign
@@ -102,9 +102,9 @@ void marginTable(std::ostringstream& s, const SampleSet& set, const VerdictEvalu
                  const VerdictEvalConfig& cfg) {
   const double margins[] = {0.0, 0.1, 0.2, 0.3, 0.5};
   s << "\n| Data set | margin 0 | 0.1 | 0.2 | 0.3 | 0.5 |\n|---|---|---|---|---|---|\n";
-  std::vector<std::vector<RelativeCheckResult>> rel;
+  std::vector<std::vector<coral::RelativeCheckResult>> rel;
   for (double m : margins) {
-    RelativeCheckConfig c = cfg.relative;
+    coral::RelativeCheckConfig c = cfg.relative;
     c.margin = m;
     rel.push_back(relativeResults(set, c));
   }
@@ -118,7 +118,7 @@ void marginTable(std::ostringstream& s, const SampleSet& set, const VerdictEvalu
         scores.push_back(r[i].valid && !r[i].misaligned ? 1.0 : 0.0);
         labels.push_back(set.samples[i].label);
       }
-      s << " | " << f2(accuracy(scores, labels, 0.5, true));
+      s << " | " << f2(coral::accuracy(scores, labels, 0.5, true));
     }
     s << " |\n";
   }
@@ -206,7 +206,7 @@ bool writeVerdictRocPng(const std::string& path, const SampleSet& set, const Ver
     if (pooled[0].scores.empty() && pooled[1].scores.empty()) continue;
     panels.push_back(title.at(kind));
     for (int m = 0; m < 3; ++m) {
-      pooled[m].method = verdictMethodName(kVerdictMethods[m]);
+      pooled[m].method = coral::verdictMethodName(kVerdictMethods[m]);
       pooled[m].group = panels.back();
       summarizeRow(set, {}, 0.5, &pooled[m]);
       rows.push_back(pooled[m]);
@@ -215,12 +215,12 @@ bool writeVerdictRocPng(const std::string& path, const SampleSet& set, const Ver
   return writeRocPng(path, rows, panels, error);
 }
 
-std::string verdictYaml(const VerdictConfig& v, const std::vector<std::string>& comments) {
+std::string verdictYaml(const coral::VerdictConfig& v, const std::vector<std::string>& comments) {
   std::ostringstream s;
   for (const std::string& c : comments) s << "# " << c << '\n';
   s << std::setprecision(12) << "tolerance:\n  translation: " << v.tolerance.translation
     << "\n  rotation_deg: " << v.tolerance.rotation_deg
-    << "\nclassifier:\n  method: " << verdictMethodName(v.method)
+    << "\nclassifier:\n  method: " << coral::verdictMethodName(v.method)
     << "\n  beta0: " << v.classifier.beta0 << "\n  beta1: " << v.classifier.beta1
     << "\n  beta2: " << v.classifier.beta2 << "\n  threshold: " << v.classifier.threshold
     << "\n  relative_margin: " << v.relative.margin << "\n  flat_ratio: " << v.relative.flat_ratio
@@ -228,5 +228,5 @@ std::string verdictYaml(const VerdictConfig& v, const std::vector<std::string>& 
   return s.str();
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -13,13 +13,13 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 const char* const kTranslationGroup = "translation";
 const char* const kRotationGroup = "rotation";
 
 std::string VerdictSampleConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .nested("coral", coral.validate())
       .nested("tolerance", tolerance.validate())
       .require(threads >= 0, "threads", ">= 0", threads)
@@ -32,7 +32,8 @@ std::string VerdictSampleConfig::validate() const {
 
 std::vector<MethodSpec> verdictMethods(int dimension) {
   MethodSpec rel{"Relative", {"Q"}};
-  for (const ToleranceOffset& o : toleranceOffsets(ToleranceConfig(), dimension))
+  for (const coral::ToleranceOffset& o :
+       coral::toleranceOffsets(coral::ToleranceConfig(), dimension))
     rel.feature_names.push_back("Q_" + o.name);
   return {{"CorAl", {"H_joint", "H_sep"}}, rel};
 }
@@ -45,8 +46,8 @@ namespace {
 class PairEvaluator {
  public:
   using Key = std::array<long long, 12>;
-  PairEvaluator(const Scan& a, const Scan& b, const Eigen::Isometry3d& T_a_b, CoralConfig c,
-                int probe_queries)
+  PairEvaluator(const coral::Scan& a, const coral::Scan& b, const Eigen::Isometry3d& T_a_b,
+                coral::CoralConfig c, int probe_queries)
       : pair_(a, b, noPerPoint(c), probe_queries), T_a_b_(T_a_b) {}
   // {H_joint, H_sep, Q} over every query, NaN without a valid CorAl result; also fills the
   // probe Q of this pose.
@@ -54,8 +55,8 @@ class PairEvaluator {
     const Key k = key(delta);
     auto it = full_.find(k);
     if (it != full_.end()) return it->second;
-    CoralResult probe;
-    const CoralResult r = pair_.evaluate(T_a_b_ * delta, &probe);
+    coral::CoralResult probe;
+    const coral::CoralResult r = pair_.evaluate(T_a_b_ * delta, &probe);
     count(r);
     probe_[k] = probe.valid ? probe.quality : nan();
     std::array<double, 3> v = {nan(), nan(), nan()};
@@ -67,14 +68,14 @@ class PairEvaluator {
     const Key k = key(delta);
     auto it = probe_.find(k);
     if (it != probe_.end()) return it->second;
-    const CoralResult r = pair_.evaluateProbe(T_a_b_ * delta);
+    const coral::CoralResult r = pair_.evaluateProbe(T_a_b_ * delta);
     count(r);
     return probe_[k] = r.valid ? r.quality : nan();
   }
   const CoralCost& cost() const { return cost_; }
 
  private:
-  static CoralConfig noPerPoint(CoralConfig c) {
+  static coral::CoralConfig noPerPoint(coral::CoralConfig c) {
     c.per_point = false;
     return c;
   }
@@ -87,11 +88,11 @@ class PairEvaluator {
     }
     return k;
   }
-  void count(const CoralResult& r) {
+  void count(const coral::CoralResult& r) {
     ++cost_.evaluations;
     cost_.seconds += r.seconds;
   }
-  CoralPair pair_;
+  coral::CoralPair pair_;
   Eigen::Isometry3d T_a_b_;
   CoralCost cost_;
   std::map<Key, std::array<double, 3>> full_;
@@ -100,7 +101,7 @@ class PairEvaluator {
 
 std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
                                 const std::vector<TrainingScan>& scans, const ScanPair& pr,
-                                const std::vector<ToleranceOffset>& offsets,
+                                const std::vector<coral::ToleranceOffset>& offsets,
                                 const VerdictSampleConfig& cfg, CoralCost* cost) {
   PairEvaluator eval(scans[pr.a].scan, scans[pr.b].scan, pr.T_a_b, cfg.coral, cfg.probe_queries);
   std::vector<Sample> out;
@@ -112,10 +113,10 @@ std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
     x.stamp_b = scans[pr.b].stamp;
     Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
     if (s >= 0) {
-      const ToleranceOffset& o = offsets[s];
+      const coral::ToleranceOffset& o = offsets[s];
       delta = o.delta;
       x.offset = o.name;
-      x.group = isRotation(o.axis) ? kRotationGroup : kTranslationGroup;
+      x.group = coral::isRotation(o.axis) ? kRotationGroup : kTranslationGroup;
       x.label = 0;
       x.dx = delta.translation().x();
       x.dy = delta.translation().y();
@@ -123,7 +124,8 @@ std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
     }
     const std::array<double, 3> c = eval.at(delta);
     x.features = {{c[0], c[1]}, {eval.probeQ(delta)}};  // the relative check's Q: probe queries
-    for (const ToleranceOffset& o : offsets) x.features[1].push_back(eval.probeQ(delta * o.delta));
+    for (const coral::ToleranceOffset& o : offsets)
+      x.features[1].push_back(eval.probeQ(delta * o.delta));
     out.push_back(std::move(x));
   }
   cost->evaluations += eval.cost().evaluations;
@@ -137,17 +139,18 @@ bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingS
                          const std::vector<ScanPair>& pairs, const VerdictSampleConfig& cfg,
                          const Progress& progress, SampleSet* set, std::string* error,
                          CoralCost* cost) {
-  if (const std::string e = cfg.validate(); !e.empty()) return fail(error, e);
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
   std::vector<int> mine;  // pair indices of this shard
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const ScanPair& p = pairs[i];
     if (p.a < 0 || p.b < 0 || p.a >= static_cast<int>(scans.size()) ||
         p.b >= static_cast<int>(scans.size()))
-      return fail(error, "pair " + std::to_string(i) + " refers to a missing scan");
+      return coral::fail(error, "pair " + std::to_string(i) + " refers to a missing scan");
     if (static_cast<int>(i % cfg.shard_count) == cfg.shard_index)
       mine.push_back(static_cast<int>(i));
   }
-  const std::vector<ToleranceOffset> offsets = toleranceOffsets(cfg.tolerance, cfg.coral.dimension);
+  const std::vector<coral::ToleranceOffset> offsets =
+      coral::toleranceOffsets(cfg.tolerance, cfg.coral.dimension);
   std::vector<std::vector<Sample>> per_pair(mine.size());
   std::vector<CoralCost> costs(mine.size());
   std::atomic<std::size_t> next{0};
@@ -180,5 +183,5 @@ bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingS
   return true;
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -17,7 +17,7 @@
 #include "coral_introspection/ros/coral_scan_input.hpp"
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 std::string BagTrainingOptions::validate() const {
   std::ostringstream e;
@@ -34,9 +34,9 @@ std::string BagTrainingOptions::validate() const {
 namespace {
 
 struct RawScan {
-  core::TrainingScan scan;
-  core::RadarFeatures rip, kstrong;  // radar images: features with per-point stamps
-  double kstrong_ref = 0.0;          // reference stamp of kstrong (embedded clock)
+  eval::TrainingScan scan;
+  radar::RadarFeatures rip, kstrong;  // radar images: features with per-point stamps
+  double kstrong_ref = 0.0;           // reference stamp of kstrong (embedded clock)
   bool is_image = false;
   Eigen::Isometry3d T_fixed_sensor = Eigen::Isometry3d::Identity();
 };
@@ -67,7 +67,7 @@ bool readScan(const rosbag::MessageInstance& m, const BagTrainingOptions& o, Raw
   if (auto cloud = m.instantiate<sensor_msgs::PointCloud2>()) {
     *frame = cloud->header.frame_id;
     *stamp = cloud->header.stamp;
-    return cloudToPoints(*cloud, &out->scan.scan.points, error);
+    return ros_adapters::cloudToPoints(*cloud, &out->scan.scan.points, error);
   }
   auto image = m.instantiate<sensor_msgs::Image>();
   if (!image) {
@@ -77,18 +77,18 @@ bool readScan(const rosbag::MessageInstance& m, const BagTrainingOptions& o, Raw
   *frame = image->header.frame_id;
   *stamp = image->header.stamp;
   out->is_image = true;
-  SensorScan ss;
-  if (!toSensorScan(*image, o.node, &ss, error)) return false;  // RIP front end
+  ros_adapters::SensorScan ss;
+  if (!ros_adapters::toSensorScan(*image, o.node, &ss, error)) return false;  // RIP front end
   out->rip = std::move(ss.scan.features);
   if (o.with_cfear) {
     const cv::Mat mat(static_cast<int>(image->height), static_cast<int>(image->width), CV_8UC1,
                       const_cast<uint8_t*>(image->data.data()), image->step);
-    core::PolarScan polar;
-    const bool ok = o.node.polar_format == PolarFormat::kOxford
-                        ? core::decodeOxfordImage(mat, &polar, error)
-                        : core::decodePolarImage(mat, o.node.polar, stamp->toSec(), &polar, error);
+    radar::PolarScan polar;
+    const bool ok = o.node.polar_format == ros_adapters::PolarFormat::kOxford
+                        ? radar::decodeOxfordImage(mat, &polar, error)
+                        : radar::decodePolarImage(mat, o.node.polar, stamp->toSec(), &polar, error);
     if (!ok) return false;
-    out->kstrong = core::kStrongestPoints(polar, o.cfear_k, o.cfear_z_min, o.node.rip.min_range,
+    out->kstrong = eval::kStrongestPoints(polar, o.cfear_k, o.cfear_z_min, o.node.rip.min_range,
                                           o.node.rip.max_range);
     out->kstrong_ref = polar.stamp;
   }
@@ -108,8 +108,8 @@ std::string bagTopicType(const std::string& bag_path, const std::string& topic) 
 }
 
 bool loadBagTrainingScans(const std::string& bag_path, const BagTrainingOptions& o,
-                          const core::Progress& progress, std::vector<core::TrainingScan>* scans,
-                          core::Isometries* T_fixed_sensor, BagTrainingSummary* summary,
+                          const eval::Progress& progress, std::vector<eval::TrainingScan>* scans,
+                          coral::Isometries* T_fixed_sensor, BagTrainingSummary* summary,
                           std::string* error) {
   auto fail = [&](const std::string& msg) {
     if (error) *error = msg;
@@ -139,7 +139,8 @@ bool loadBagTrainingScans(const std::string& bag_path, const BagTrainingOptions&
       summary->radar_images = summary->radar_images || r.is_image;
       try {
         const auto t = buffer.lookupTransform(o.fixed_frame, frame, stamp);
-        if (!toEigen(t.transform, &r.T_fixed_sensor, &err)) throw tf2::TransformException(err);
+        if (!ros_adapters::toEigen(t.transform, &r.T_fixed_sensor, &err))
+          throw tf2::TransformException(err);
       } catch (const tf2::TransformException& e) {
         if (summary->first_error.empty()) summary->first_error = e.what();
         ++summary->no_pose;
@@ -162,18 +163,18 @@ bool loadBagTrainingScans(const std::string& bag_path, const BagTrainingOptions&
   T_fixed_sensor->clear();
   // The online de-skew policy (radar/deskew.hpp) on the bag's poses.
   std::vector<double> stamps;
-  core::Isometries poses;
+  coral::Isometries poses;
   for (const RawScan& r : raw) {
     stamps.push_back(r.scan.stamp);
     poses.push_back(r.T_fixed_sensor);
   }
-  const auto velocities = core::deskewVelocities(stamps, poses);
+  const auto velocities = radar::deskewVelocities(stamps, poses);
   for (std::size_t i = 0; i < raw.size(); ++i) {
     RawScan& r = raw[i];
     if (summary->radar_images) {
       if (o.motion_compensation && velocities[i]) {
-        core::compensateMotion(*velocities[i], r.scan.stamp, &r.rip);
-        core::compensateMotion(*velocities[i], r.kstrong_ref, &r.kstrong);
+        radar::compensateMotion(*velocities[i], r.scan.stamp, &r.rip);
+        radar::compensateMotion(*velocities[i], r.kstrong_ref, &r.kstrong);
       }
       r.scan.scan.points = std::move(r.rip.points);
       r.scan.cfear_points = std::move(r.kstrong.points);
@@ -184,5 +185,5 @@ bool loadBagTrainingScans(const std::string& bag_path, const BagTrainingOptions&
   return true;
 }
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

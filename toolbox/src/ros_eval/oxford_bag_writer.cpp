@@ -15,7 +15,7 @@
 #include "coral_introspection/ros/conversions.hpp"
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 namespace {
 ros::Time fromMicroseconds(int64_t us) {
@@ -28,7 +28,7 @@ bool writeOxfordBag(const std::string& folder, const std::string& bag_path,
                     const OxfordBagOptions& options, OxfordBagSummary* summary,
                     std::string* error) {
   std::string err;
-  core::OxfordDataset ds;
+  eval::OxfordDataset ds;
   if (!ds.load(folder, &err)) {
     if (error) *error = err;
     return false;
@@ -47,8 +47,8 @@ bool writeOxfordBag(const std::string& folder, const std::string& bag_path,
     rosbag::Bag bag(bag_path, rosbag::bagmode::Write);
     for (std::size_t i = 0; i < ds.png_paths.size(); ++i) {
       const cv::Mat img = cv::imread(ds.png_paths[i], cv::IMREAD_UNCHANGED);
-      core::PolarScan check;  // refuse corrupt scans rather than writing them
-      if (img.empty() || !core::decodeOxfordImage(img, &check, &err)) {
+      radar::PolarScan check;  // refuse corrupt scans rather than writing them
+      if (img.empty() || !radar::decodeOxfordImage(img, &check, &err)) {
         if (error) *error = ds.png_paths[i] + ": " + (img.empty() ? "unreadable PNG" : err);
         bag.close();
         return false;
@@ -59,7 +59,8 @@ bool writeOxfordBag(const std::string& folder, const std::string& bag_path,
       tf.header.stamp = stamp;
       tf.header.frame_id = options.fixed_frame;
       tf.child_frame_id = options.radar_frame;
-      tf.transform = toTransformMsg(ds.T_first_scan(i));  // T_odom_radar, odom = scan 0
+      tf.transform =
+          ros_adapters::toTransformMsg(ds.T_first_scan(i));  // T_odom_radar, odom = scan 0
       tf2_msgs::TFMessage tf_msg;
       tf_msg.transforms.push_back(tf);
       const ros::Time tf_time = stamp - ros::Duration(options.tf_lead_s) > ros::Time(0, 1)
@@ -93,5 +94,5 @@ bool writeOxfordBag(const std::string& folder, const std::string& bag_path,
   return true;
 }
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

@@ -15,9 +15,9 @@
 #include "coral_introspection/radar/motion_compensation.hpp"
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
-CloudStreamer::CloudStreamer(ros::NodeHandle& nh, const core::Points& world,
+CloudStreamer::CloudStreamer(ros::NodeHandle& nh, const coral::Points& world,
                              const StreamOptions& options)
     : opt_(options) {
   const int stride = std::max(1, opt_.stride);
@@ -40,10 +40,10 @@ bool CloudStreamer::waitForSubscriber(double timeout_s) const {
 }
 
 Eigen::Isometry3d CloudStreamer::pose(double t) const {
-  core::Twist v;
-  v.linear = core::Vec3(opt_.speed, 0.0, 0.0);
-  v.angular = core::Vec3(0.0, 0.0, opt_.yaw_rate);
-  return core::constantVelocityPose(v, t);
+  radar::Twist v;
+  v.linear = coral::Vec3(opt_.speed, 0.0, 0.0);
+  v.angular = coral::Vec3(0.0, 0.0, opt_.yaw_rate);
+  return radar::constantVelocityPose(v, t);
 }
 
 void CloudStreamer::publish(double t, const ros::Time& stamp) {
@@ -65,7 +65,7 @@ void CloudStreamer::publish(double t, const ros::Time& stamp) {
   const float* noise = noise_.data() + offset;
   sensor_msgs::PointCloud2Iterator<float> it(c, "x");
   for (std::size_t i = 0; i < world_.size(); ++i, ++it) {
-    const core::Vec3 p = T_sensor_fixed * world_[i];
+    const coral::Vec3 p = T_sensor_fixed * world_[i];
     it[0] = static_cast<float>(p.x()) + noise[3 * i];
     it[1] = static_cast<float>(p.y()) + noise[3 * i + 1];
     it[2] = static_cast<float>(p.z()) + noise[3 * i + 2];
@@ -174,11 +174,11 @@ StreamSummary VerdictMonitor::summary() {
     if (m.status == AlignmentQuality::VERDICT) ++loops.back().verdicts;
   }
   s.verdict_rate = s.seconds > 0.0 ? s.verdicts / s.seconds : 0.0;
-  s.latency_median = core::quantile(latency, 0.5);
-  s.latency_p95 = core::quantile(latency, 0.95);
+  s.latency_median = coral::quantile(latency, 0.5);
+  s.latency_p95 = coral::quantile(latency, 0.95);
   s.latency_max = latency.empty() ? 0.0 : *std::max_element(latency.begin(), latency.end());
-  s.age_median = core::quantile(age, 0.5);
-  s.age_p95 = core::quantile(age, 0.95);
+  s.age_median = coral::quantile(age, 0.5);
+  s.age_p95 = coral::quantile(age, 0.95);
   // The first and the last loop may be cut by the measuring window: only those between.
   for (std::size_t k = 1; k + 1 < loops.size(); ++k) {
     ++s.loops;
@@ -227,5 +227,5 @@ double processRssMiB(int pid) {
   return 0.0;
 }
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

@@ -15,11 +15,11 @@
 #include "coral_introspection/ros_eval/preset_file.hpp"
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 namespace {
 
-core::Progress bar(const std::string& what, std::ostream& log) {
+eval::Progress bar(const std::string& what, std::ostream& log) {
   return [what, &log](std::size_t done, std::size_t total) {
     if (done == total || done % std::max<std::size_t>(1, total / 20) == 0)
       log << "\r" << what << " " << done << "/" << total << (done == total ? "\n" : "")
@@ -27,16 +27,16 @@ core::Progress bar(const std::string& what, std::ostream& log) {
   };
 }
 
-bool loadData(const core::DatasetSpec& spec, const NodeConfig& node,
-              const VerdictTrainingOptions& o, std::ostream& log, core::PairDataset* d,
+bool loadData(const eval::DatasetSpec& spec, const ros_adapters::NodeConfig& node,
+              const VerdictTrainingOptions& o, std::ostream& log, eval::PairDataset* d,
               std::string* error) {
   if (spec.kind != "bag") {
-    core::DatasetOptions opt;
+    eval::DatasetOptions opt;
     opt.oxford.rip = node.rip;
     opt.oxford.with_cfear = false;
     opt.oxford.motion_compensation = node.online.deskew.enabled;
     opt.oxford.max_scans = opt.keyframes.max_scans = o.max_scans;
-    return core::loadPairDataset(spec, opt, bar(spec.name + " scans", log), d, error);
+    return eval::loadPairDataset(spec, opt, bar(spec.name + " scans", log), d, error);
   }
   BagTrainingOptions b;
   b.scan_topic = o.bag_scan_topic;
@@ -46,20 +46,20 @@ bool loadData(const core::DatasetSpec& spec, const NodeConfig& node,
   b.motion_compensation = node.online.deskew.enabled;
   b.with_cfear = false;
   b.max_scans = o.max_scans;
-  core::Isometries poses;
+  coral::Isometries poses;
   BagTrainingSummary sum;
-  *d = core::PairDataset();
+  *d = eval::PairDataset();
   d->name = spec.name;
   if (!loadBagTrainingScans(spec.path, b, bar(spec.name + " scans", log), &d->scans, &poses, &sum,
                             error))
     return false;
-  d->pairs = core::makePairs(poses, 0.0);
+  d->pairs = eval::makePairs(poses, 0.0);
   d->summary = std::to_string(d->scans.size()) + " scans with a pose, " +
                std::to_string(d->pairs.size()) + " consecutive pairs";
   return true;
 }
 
-std::string coralSettings(const core::CoralConfig& c) {
+std::string coralSettings(const coral::CoralConfig& c) {
   std::ostringstream s;
   s << "CorAl " << c.dimension << "D, r = " << c.radius << " m"
     << (c.dynamic_radius
@@ -73,8 +73,8 @@ std::string coralSettings(const core::CoralConfig& c) {
 }  // namespace
 
 int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
-  NodeConfig node;
-  core::VerdictConfig verdict;
+  ros_adapters::NodeConfig node;
+  coral::VerdictConfig verdict;
   std::string err;
   if (!loadPresetFile(o.preset, &node, &verdict, &err)) {
     log << "coral_train: " << err << "\n";
@@ -85,7 +85,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
     log << "coral_train: give data sets (--dataset) or sample files (--samples), not both\n";
     return 2;
   }
-  core::VerdictSampleConfig scfg;
+  eval::VerdictSampleConfig scfg;
   scfg.coral = node.online.coral;
   scfg.tolerance = verdict.tolerance;
   scfg.probe_queries = verdict.relative.probe_queries;
@@ -98,17 +98,17 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   }
   mkdir(o.output_dir.c_str(), 0755);  // may exist; writes below report failures
 
-  core::SampleSet set;
+  eval::SampleSet set;
   std::vector<std::string> data_lines;
   for (const std::string& text : o.datasets) {
-    core::DatasetSpec spec;
-    core::PairDataset d;
-    core::SampleSet part;
-    core::CoralCost cost;
-    if (!core::parseDatasetSpec(text, &spec, &err) || !loadData(spec, node, o, log, &d, &err) ||
-        !core::buildVerdictSamples(spec.name, d.scans, d.pairs, scfg,
+    eval::DatasetSpec spec;
+    eval::PairDataset d;
+    eval::SampleSet part;
+    eval::CoralCost cost;
+    if (!eval::parseDatasetSpec(text, &spec, &err) || !loadData(spec, node, o, log, &d, &err) ||
+        !eval::buildVerdictSamples(spec.name, d.scans, d.pairs, scfg,
                                    bar(spec.name + " pairs", log), &part, &err, &cost) ||
-        !core::mergeSampleSets(&set, part, &err)) {
+        !eval::mergeSampleSets(&set, part, &err)) {
       log << "coral_train: " << err << "\n";
       return 1;
     }
@@ -119,8 +119,8 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
                          "`): " + d.summary + c.str());
   }
   for (const std::string& path : o.sample_files) {
-    core::SampleSet part;
-    if (!core::readSamplesCsv(path, &part, &err) || !core::mergeSampleSets(&set, part, &err)) {
+    eval::SampleSet part;
+    if (!eval::readSamplesCsv(path, &part, &err) || !eval::mergeSampleSets(&set, part, &err)) {
       log << "coral_train: " << err << "\n";
       return 1;
     }
@@ -129,7 +129,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   if (o.shard_count > 1) {  // a shard only writes its samples
     char name[64];
     std::snprintf(name, sizeof(name), "/samples_shard%dof%d.csv", o.shard_index, o.shard_count);
-    if (!core::writeSamplesCsv(o.output_dir + name, set, &err)) {
+    if (!eval::writeSamplesCsv(o.output_dir + name, set, &err)) {
       log << "coral_train: " << err << "\n";
       return 1;
     }
@@ -137,11 +137,11 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
     return 0;
   }
 
-  core::VerdictEvalConfig ecfg;
+  eval::VerdictEvalConfig ecfg;
   ecfg.evaluation.folds = o.folds;
   ecfg.relative = verdict.relative;
-  core::VerdictEvaluation ev;
-  if (!core::evaluateVerdicts(set, ecfg, &ev, &err)) {
+  eval::VerdictEvaluation ev;
+  if (!eval::evaluateVerdicts(set, ecfg, &ev, &err)) {
     log << "coral_train: " << err << "\n";
     return 1;
   }
@@ -153,7 +153,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
       << " deg about yaw" << (node.online.coral.dimension == 3 ? ", roll, pitch" : "")
       << " (offsets applied in the later scan's sensor frame). " << coralSettings(node.online.coral)
       << " (from the preset).";
-  choice << "Default method: **" << core::verdictMethodName(ev.best)
+  choice << "Default method: **" << coral::verdictMethodName(ev.best)
          << "** (rule: highest mean leave-one-out balanced accuracy; within 0.005 the cheaper "
             "method wins: classifier, then relative). Deployed classifier fitted on every "
             "sample: beta0 = "
@@ -177,7 +177,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
        << "measured while building the samples).";
   header.insert(header.end(), {"", tol.str(), "", cost.str(), "", choice.str()});
   header.insert(header.end(), o.notes.begin(), o.notes.end());
-  const std::string report = core::verdictMarkdown(set, ev, ecfg, header);
+  const std::string report = eval::verdictMarkdown(set, ev, ecfg, header);
   std::vector<std::string> comments = {
       "Verdict settings written by coral_train for " + o.preset, "command: " + o.command,
       "tolerance and classifier/* trained and chosen on: " + std::to_string(ev.datasets.size()) +
@@ -188,13 +188,13 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   row << " | " << verdict.tolerance.translation << " m, " << verdict.tolerance.rotation_deg
       << " deg |";
   for (double a : ev.lodo_accuracy) row << ' ' << std::fixed << std::setprecision(3) << a << " |";
-  row << " **" << core::verdictMethodName(ev.best) << "** |\n";
-  if (!core::writeTextFile(o.output_dir + "/report.md", report, &err) ||
-      !core::writeTextFile(o.output_dir + "/verdict.yaml", core::verdictYaml(verdict, comments),
+  row << " **" << coral::verdictMethodName(ev.best) << "** |\n";
+  if (!eval::writeTextFile(o.output_dir + "/report.md", report, &err) ||
+      !eval::writeTextFile(o.output_dir + "/verdict.yaml", eval::verdictYaml(verdict, comments),
                            &err) ||
-      !core::writeVerdictRocPng(o.output_dir + "/roc.png", set, ev, &err) ||
-      !core::writeTextFile(o.output_dir + "/summary.md", row.str(), &err) ||
-      (o.write_csv && !core::writeSamplesCsv(o.output_dir + "/samples.csv", set, &err))) {
+      !eval::writeVerdictRocPng(o.output_dir + "/roc.png", set, ev, &err) ||
+      !eval::writeTextFile(o.output_dir + "/summary.md", row.str(), &err) ||
+      (o.write_csv && !eval::writeSamplesCsv(o.output_dir + "/samples.csv", set, &err))) {
     log << "coral_train: " << err << "\n";
     return 1;
   }
@@ -203,5 +203,5 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   return 0;
 }
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

@@ -1,6 +1,6 @@
-// Benchmark of the PointCloud2 -> core::Points reader of the nodelet
+// Benchmark of the PointCloud2 -> coral::Points reader of the nodelet
 // (ros_adapters::cloudToPoints) against PCL's path (pcl::fromROSMsg into
-// pcl::PointCloud<pcl::PointXYZ>, then the copy into core::Points with the same finiteness
+// pcl::PointCloud<pcl::PointXYZ>, then the copy into coral::Points with the same finiteness
 // filter), on a synthetic 120k-point XYZI cloud (float32 x, y, z, intensity; 16 B/point,
 // 1 % NaN points):
 //   rosrun coral_introspection cloud_conversion_benchmark [--points N] [--repeats N]
@@ -56,14 +56,14 @@ sensor_msgs::PointCloud2 makeCloud(std::size_t n) {
 
 // noinline: separate entries in callgrind's per-function counts.
 __attribute__((noinline)) std::size_t readHandWritten(const sensor_msgs::PointCloud2& c,
-                                                      core::Points* pts) {
+                                                      coral::Points* pts) {
   std::string err;
   if (!ros_adapters::cloudToPoints(c, pts, &err)) std::fprintf(stderr, "%s\n", err.c_str());
   return pts->size();
 }
 
 __attribute__((noinline)) std::size_t readWithPcl(const sensor_msgs::PointCloud2& c,
-                                                  core::Points* pts) {
+                                                  coral::Points* pts) {
   pcl::PointCloud<pcl::PointXYZ> pc;
   pcl::fromROSMsg(c, pc);
   pts->clear();
@@ -79,23 +79,23 @@ constexpr const char* kUsage = "usage: cloud_conversion_benchmark [--points N] [
 }  // namespace
 
 int main(int argc, char** argv) {
-  core::ToolArgs args;
-  if (const auto exit = core::readCommandLine("cloud_conversion_benchmark", kUsage, argc, argv,
+  eval::ToolArgs args;
+  if (const auto exit = eval::readCommandLine("cloud_conversion_benchmark", kUsage, argc, argv,
                                               {"--points", "--repeats"}, {}, &args))
     return *exit;
   std::string err;
   int points = 0, repeats = 0;
-  if (!core::positiveInt(args, "--points", 120000, &points, &err) ||
-      !core::positiveInt(args, "--repeats", 200, &repeats, &err))
-    return core::toolError("cloud_conversion_benchmark", err, kUsage);
+  if (!eval::positiveInt(args, "--points", 120000, &points, &err) ||
+      !eval::positiveInt(args, "--repeats", 200, &repeats, &err))
+    return eval::toolError("cloud_conversion_benchmark", err, kUsage);
   const std::size_t n = static_cast<std::size_t>(points);
   const sensor_msgs::PointCloud2 cloud = makeCloud(n);
-  core::Points a, b;
+  coral::Points a, b;
   std::vector<double> t_hand, t_pcl;
   for (int r = 0; r < repeats; ++r) {  // interleaved, so load changes hit both alike
     // Fresh output per call, as the nodelet reads every message into a new scan.
-    a = core::Points();
-    b = core::Points();
+    a = coral::Points();
+    b = coral::Points();
     auto t0 = Clock::now();
     readHandWritten(cloud, &a);
     auto t1 = Clock::now();
@@ -120,11 +120,11 @@ int main(int argc, char** argv) {
   *x64 = 1.0, *y64 = 2.0, *z64 = 3.0;
   readHandWritten(c64, &a);
   readWithPcl(c64, &b);
-  const core::Vec3 want(1.0, 2.0, 3.0);
+  const coral::Vec3 want(1.0, 2.0, 3.0);
   const bool hand64 = a.size() == 1 && a[0] == want, pcl64 = b.size() == 1 && b[0] == want;
 
   // The upper middle value of the even repeat counts, as this benchmark always reported.
-  const double mh = core::quantile(t_hand, 0.5), mp = core::quantile(t_pcl, 0.5);
+  const double mh = coral::quantile(t_hand, 0.5), mp = coral::quantile(t_pcl, 0.5);
   std::printf("%zu-point XYZI cloud (%zu finite), %d repeats, median wall time:\n", n, finite,
               repeats);
   std::printf("  cloudToPoints (hand-written)        %8.3f ms\n", mh);

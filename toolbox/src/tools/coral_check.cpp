@@ -58,8 +58,8 @@ std::string extension(const std::string& path) {
 
 // One input as loaded from disk: a point cloud, or a polar image with its time stamp.
 struct Input {
-  core::Points points;
-  core::Scan scan;  // the cloud as a scan in its own frame (origin 0)
+  coral::Points points;
+  coral::Scan scan;  // the cloud as a scan in its own frame (origin 0)
   cv::Mat image;
   double stamp = 0.0;  // [s] scan time of a radar image (Oxford layout), 0 otherwise
 };
@@ -73,8 +73,8 @@ bool loadInput(const std::string& path, const NodeConfig& cfg, Input* in, std::s
     return false;
   }
   if (!radar) {
-    core::LoadedCloud c;
-    if (!core::loadCloud(path, &c, error)) return false;
+    eval::LoadedCloud c;
+    if (!eval::loadCloud(path, &c, error)) return false;
     in->points = c.points;
     in->scan.points = std::move(c.points);
     return true;
@@ -85,8 +85,8 @@ bool loadInput(const std::string& path, const NodeConfig& cfg, Input* in, std::s
     return false;
   }
   if (cfg.polar_format == ros_adapters::PolarFormat::kOxford) {
-    core::PolarScan scan;  // for the embedded scan time only
-    if (!core::decodeOxfordImage(in->image, &scan, error)) {
+    radar::PolarScan scan;  // for the embedded scan time only
+    if (!radar::decodeOxfordImage(in->image, &scan, error)) {
       *error = path + ": " + *error;
       return false;
     }
@@ -97,7 +97,7 @@ bool loadInput(const std::string& path, const NodeConfig& cfg, Input* in, std::s
 
 // Sensor-frame points of one input: the cloud as is, or the RIP features of the image
 // through the nodelet's own image path.
-bool sensorPoints(const Input& in, const NodeConfig& cfg, core::RadarFeatures* out,
+bool sensorPoints(const Input& in, const NodeConfig& cfg, radar::RadarFeatures* out,
                   std::string* error) {
   if (in.image.empty()) {
     out->points = in.points;
@@ -137,15 +137,15 @@ bool judge(const Input& ia, const Input& ib, const Eigen::Isometry3d& T_a_b, con
     *out = online::judgePair(ia.scan, ib.scan, T_a_b, cfg.online, false);
     return true;
   }
-  core::RadarFeatures fa, fb;
+  radar::RadarFeatures fa, fb;
   if (!sensorPoints(ia, cfg, &fa, error) || !sensorPoints(ib, cfg, &fb, error)) return false;
-  const auto twists = core::deskewVelocities(
+  const auto twists = radar::deskewVelocities(
       {ia.stamp, ib.stamp}, {Eigen::Isometry3d::Identity(), T_a_b}, cfg.online.deskew);
   if (cfg.online.deskew.enabled && twists[0] && twists[1]) {
-    core::compensateMotion(*twists[0], ia.stamp, &fa);
-    core::compensateMotion(*twists[1], ib.stamp, &fb);
+    radar::compensateMotion(*twists[0], ia.stamp, &fa);
+    radar::compensateMotion(*twists[1], ib.stamp, &fb);
   }
-  core::Scan a, b;
+  coral::Scan a, b;
   a.points = std::move(fa.points);
   b.points = std::move(fb.points);
   *out = online::judgePair(std::move(a), b, T_a_b, cfg.online, false);
@@ -160,22 +160,22 @@ int main(int argc, char** argv) {
   // kernel time per pair on a 64-beam pair). Large blocks come from the reused heap.
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
   mallopt(M_TRIM_THRESHOLD, 512 << 20);
-  core::ToolArgs args;
-  if (const auto exit = core::readCommandLine(
+  eval::ToolArgs args;
+  if (const auto exit = eval::readCommandLine(
           "coral_check", kUsage, argc, argv,
           {"--config", "--classifier", "--a", "--b", "--transform_file", "--repeat"},
           {"--loop_closure"}, &args))
     return *exit;
   std::string usage_error;
   int repeat = 1;
-  if (!core::intOption(args, "--repeat", 1, 1, 100000, &repeat, &usage_error))
-    return core::toolError("coral_check", usage_error, kUsage);
+  if (!eval::intOption(args, "--repeat", 1, 1, 100000, &repeat, &usage_error))
+    return eval::toolError("coral_check", usage_error, kUsage);
   const std::string config = args.get("--config"), classifier = args.get("--classifier"),
                     path_a = args.get("--a"), path_b = args.get("--b"),
                     transform = args.get("--transform_file");
   const bool loop_closure = args.flag("--loop_closure");
   if (config.empty() || path_a.empty() || path_b.empty() || transform.empty())
-    return core::toolError("coral_check", "--config, --a, --b and --transform_file are required",
+    return eval::toolError("coral_check", "--config, --a, --b and --transform_file are required",
                            kUsage);
 
   std::string err;
@@ -184,11 +184,11 @@ int main(int argc, char** argv) {
   std::vector<std::string> presets = {config};
   if (!classifier.empty()) presets.push_back(classifier);
   NodeConfig cfg;
-  if (!ros_adapters::loadPresetFiles(presets, &cfg, &err)) return fail(err);
+  if (!ros_eval::loadPresetFiles(presets, &cfg, &err)) return fail(err);
 
-  if (loop_closure) cfg.online.verdict = core::loopClosureVerdict(cfg.online.verdict);
+  if (loop_closure) cfg.online.verdict = coral::loopClosureVerdict(cfg.online.verdict);
   Eigen::Isometry3d T_a_b;
-  if (!core::readTransformFile(transform, &T_a_b, &err)) return fail(err);
+  if (!eval::readTransformFile(transform, &T_a_b, &err)) return fail(err);
   Input a, b;
   if (!loadInput(path_a, cfg, &a, &err) || !loadInput(path_b, cfg, &b, &err)) return fail(err);
 
@@ -199,8 +199,8 @@ int main(int argc, char** argv) {
     if (!judge(a, b, T_a_b, cfg, &out, &err)) return fail(err);
     seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  const double median = core::median(std::move(seconds));
-  const core::CoralResult& r = out.verdict.coral;
+  const double median = coral::median(std::move(seconds));
+  const coral::CoralResult& r = out.verdict.coral;
   char fs[32] = "null";  // JSON has no NaN: null when the free space was not measured
   if (out.verdict.free_space.valid)
     std::snprintf(fs, sizeof fs, "%.6f", out.verdict.free_space.conflict);
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
       out.verdict.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
       r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
-      jsonEscape(out.reason).c_str(), core::verdictMethodName(cfg.online.verdict.method),
+      jsonEscape(out.reason).c_str(), coral::verdictMethodName(cfg.online.verdict.method),
       loop_closure ? "true" : "false", jsonEscape(out.verdict.rejected_by).c_str(),
       free_space.c_str());
   return 0;

@@ -31,17 +31,17 @@ constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
     "[--out FILE.csv]";
 
-int fail(const std::string& msg) { return core::toolError("coral_error_sweep", msg, kUsage); }
+int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  core::ToolArgs args;
+  eval::ToolArgs args;
   std::string err;
   int stride = 1;
-  if (!core::parseToolArgs(argc, argv, {"--config", "--data", "--stride", "--out"}, {}, &args,
+  if (!eval::parseToolArgs(argc, argv, {"--config", "--data", "--stride", "--out"}, {}, &args,
                            &err) ||
-      !core::positiveInt(args, "--stride", 1, &stride, &err))
+      !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -51,43 +51,43 @@ int main(int argc, char** argv) {
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
   const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;
-  core::VerdictConfig verdict;
-  if (!ros_adapters::loadPresetFile(config, &node, &verdict, &err))
+  coral::VerdictConfig verdict;
+  if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
     return fail(err);  // names the file (and line)
   // Every term of the verdict (classifier and relative check) in the CSV; the summary counts
   // the preset's own method, combined from the same terms.
   online::IntrospectorConfig judge_cfg = node.online;
-  judge_cfg.verdict.method = core::VerdictMethod::kBoth;
+  judge_cfg.verdict.method = coral::VerdictMethod::kBoth;
   std::ofstream file;
   if (!out_path.empty()) {
     file.open(out_path);
     if (!file) return fail("cannot write " + out_path);
   }
   std::ostream& out = out_path.empty() ? std::cout : file;
-  out << core::errorSweepCsvHeader() << "\n";
+  out << eval::errorSweepCsvHeader() << "\n";
   // right / judged per error label, over every data set
   std::map<std::string, std::pair<int, int>> tally;
   for (const std::string& text : specs) {
-    core::DatasetSpec spec;
-    if (!core::parseDatasetSpec(text, &spec, &err)) return fail(err);
-    core::DatasetOptions opt;
+    eval::DatasetSpec spec;
+    if (!eval::parseDatasetSpec(text, &spec, &err)) return fail(err);
+    eval::DatasetOptions opt;
     opt.oxford.rip = node.rip;
     opt.oxford.with_cfear = false;
     opt.oxford.motion_compensation = node.online.deskew.enabled;
-    core::PairDataset d;
-    if (!core::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
-    const std::vector<core::SweepError> errors =
-        core::sweepErrors(verdict.tolerance, node.online.coral.dimension);
+    eval::PairDataset d;
+    if (!eval::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
+    const std::vector<eval::SweepError> errors =
+        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension);
     for (std::size_t i = 0; i < d.pairs.size(); i += static_cast<std::size_t>(stride)) {
-      const core::ScanPair& p = d.pairs[i];
-      for (const core::SweepError& e : errors) {
+      const eval::ScanPair& p = d.pairs[i];
+      for (const eval::SweepError& e : errors) {
         const online::PairJudgement j = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
                                                           p.T_a_b * e.delta, judge_cfg, false);
-        out << core::errorSweepCsvRow(d.name, static_cast<int>(i), e, j.verdict) << "\n";
-        core::AlignmentVerdict v = j.verdict;
+        out << eval::errorSweepCsvRow(d.name, static_cast<int>(i), e, j.verdict) << "\n";
+        coral::AlignmentVerdict v = j.verdict;
         if (v.coral.valid)
-          core::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v,
-                               verdict.gate, core::gateTerms(v));
+          coral::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v,
+                                verdict.gate, coral::gateTerms(v));
         auto& t = tally[e.label];
         t.second += 1;
         t.first += (v.valid && v.aligned) == e.ground_truth;  // no verdict = not accepted

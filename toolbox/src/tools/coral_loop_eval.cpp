@@ -45,7 +45,7 @@ constexpr const char* kUsage =
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] "
     "[--out_dir DIR]";
 
-int fail(const std::string& msg) { return core::toolError("coral_loop_eval", msg, kUsage); }
+int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
 // Edge uncertainties of the graph [m], [rad]: keyframe odometry (lidar-inertial) is good to a
 // few cm per keyframe; wheel odometry between corrected CARMEN scans (~1 m apart) to ~0.1 m
@@ -57,8 +57,8 @@ struct GraphSettings {
 
 // A candidate and the one CorAl evaluation every CorAl gate decides from.
 struct Judged {
-  core::LoopCandidate c;
-  core::AlignmentVerdict v;    // method kBoth
+  eval::LoopCandidate c;
+  coral::AlignmentVerdict v;   // method kBoth
   bool in_graph = false;       // an edge of the graph: between graph nodes, or attached to them
   int node_a = 0, node_b = 0;  // its graph nodes
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // node_b in node_a's frame
@@ -71,9 +71,9 @@ constexpr int kAttachLines = 10;
 }  // namespace
 
 int main(int argc, char** argv) {
-  core::ToolArgs args;
+  eval::ToolArgs args;
   std::string err;
-  if (!core::parseToolArgs(argc, argv,
+  if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--keyframes", "--carmen", "--corrected", "--out",
                             "--out_dir", "--rows", "--registration"},
                            {}, &args, &err))
@@ -92,11 +92,11 @@ int main(int argc, char** argv) {
   if (rows != "all" && rows != "even" && rows != "odd")
     return fail("--rows must be all, even or odd (got '" + rows + "')");
   ros_adapters::NodeConfig node;
-  core::VerdictConfig verdict;
-  if (!ros_adapters::loadPresetFile(config, &node, &verdict, &err))
+  coral::VerdictConfig verdict;
+  if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
     return fail(err);  // names the file (and line)
   online::IntrospectorConfig judge_cfg = node.online;
-  judge_cfg.verdict.method = core::VerdictMethod::kBoth;  // every term of the verdict
+  judge_cfg.verdict.method = coral::VerdictMethod::kBoth;  // every term of the verdict
   // The loop gate as `gate` (loop_gates.hpp); the free-space conflict measured for the CSV
   // even when the preset's loop gate does not use it (a bound below 1 turns the measurement on).
   judge_cfg.verdict.gate = verdict.loop_closure;
@@ -104,28 +104,28 @@ int main(int argc, char** argv) {
       std::min(verdict.loop_closure.max_free_space, std::nextafter(1.0, 0.0));
   const int dim = node.online.coral.dimension;
 
-  std::vector<core::TrainingScan> scans, rel_scans;
-  core::Isometries ref, odom;
+  std::vector<eval::TrainingScan> scans, rel_scans;
+  coral::Isometries ref, odom;
   std::vector<double> stamps;
-  std::vector<core::ScanPair> rel_pairs;
-  std::vector<core::CarmenLaserScan> log;
+  std::vector<eval::ScanPair> rel_pairs;
+  std::vector<eval::CarmenLaserScan> log;
   std::vector<int> raw;
-  std::vector<core::Relation> relations;  // all of them: the relation error of each graph
+  std::vector<eval::Relation> relations;  // all of them: the relation error of each graph
   GraphSettings graph;
   if (!keyframes.empty()) {
-    if (!core::loadKeyframeSequence(keyframes, core::KeyframeSequenceConfig(), nullptr, &scans,
+    if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &scans,
                                     &ref, &err) ||
-        !core::readKittiPoses(keyframes + "/odom_poses.txt", &odom, &err))
+        !eval::readKittiPoses(keyframes + "/odom_poses.txt", &odom, &err))
       return fail(err);
     if (odom.size() < scans.size()) return fail("fewer odometry poses than keyframes");
     odom.resize(scans.size());
   } else {
-    core::LaserGeometry geometry;
-    if (!core::readCarmenLog(carmen, &log, &err) ||
-        !core::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
-        !core::loopRelationPairs(log, core::relationsPath(carmen), geometry, 30, &rel_scans,
+    eval::LaserGeometry geometry;
+    if (!eval::readCarmenLog(carmen, &log, &err) ||
+        !eval::correctedSequence(log, corrected, geometry, &scans, &ref, &odom, &raw, &err) ||
+        !eval::loopRelationPairs(log, eval::relationsPath(carmen), geometry, 30, &rel_scans,
                                  &rel_pairs, &err) ||
-        !core::readRelations(core::relationsPath(carmen), &relations, &err))
+        !eval::readRelations(eval::relationsPath(carmen), &relations, &err))
       return fail(err);
     graph.odom_t = 0.1;
     graph.odom_r = 0.03;
@@ -133,18 +133,18 @@ int main(int argc, char** argv) {
   for (const auto& s : scans) stamps.push_back(s.stamp);
 
   // 1. Candidates, 2. one evaluation each.
-  std::vector<core::LoopCandidate> cands;
-  core::LoopCandidateConfig cand_cfg = core::evaluationCandidates(dim, verdict.tolerance);
+  std::vector<eval::LoopCandidate> cands;
+  eval::LoopCandidateConfig cand_cfg = eval::evaluationCandidates(dim, verdict.tolerance);
   cand_cfg.registration = registration;
-  if (!core::buildLoopCandidates(scans, ref, odom, cand_cfg, &cands, &err)) return fail(err);
+  if (!eval::buildLoopCandidates(scans, ref, odom, cand_cfg, &cands, &err)) return fail(err);
   std::vector<Judged> judged;
-  for (const core::LoopCandidate& c : cands)
+  for (const eval::LoopCandidate& c : cands)
     judged.push_back(
         {c, online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, judge_cfg, false).verdict,
          true, c.a, c.b, c.T_a_b});
-  const core::LogNodes nodes(log, raw);
-  for (const core::ScanPair& p : rel_pairs) {
-    core::LoopCandidate c;
+  const eval::LogNodes nodes(log, raw);
+  for (const eval::ScanPair& p : rel_pairs) {
+    eval::LoopCandidate c;
     c.a = p.a;
     c.b = p.b;
     c.source = "relation";
@@ -171,8 +171,8 @@ int main(int argc, char** argv) {
     out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
            "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space\n";
     for (const Judged* j : table) {
-      const core::LoopCandidate& c = j->c;
-      const core::AlignmentVerdict& v = j->v;
+      const eval::LoopCandidate& c = j->c;
+      const coral::AlignmentVerdict& v = j->v;
       out << c.a << ',' << c.b << ',' << c.source << ',' << c.init_yaw_deg << ',' << c.is_true
           << ',' << c.error_translation << ',' << c.error_rotation_deg << ',' << c.converged << ','
           << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
@@ -188,18 +188,18 @@ int main(int argc, char** argv) {
   std::printf("%s: %zu scans; %d true and %d false loop candidates (%s rows)\n",
               keyframes.empty() ? carmen.c_str() : keyframes.c_str(), scans.size(), n_true, n_false,
               rows.c_str());
-  core::PoseGraphConfig pg;
+  eval::PoseGraphConfig pg;
   pg.dimension = dim;
   pg.huber_loss = graph.huber;
   // Continuation: the CARMEN logs' raw odometry starts the graph metres and tens of degrees off.
   pg.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
-  const auto odom_edges = core::odometryEdges(odom, graph.odom_t, graph.odom_r);
-  const double ate_odom = core::absoluteTrajectoryError(odom, ref, dim);
+  const auto odom_edges = eval::odometryEdges(odom, graph.odom_t, graph.odom_r);
+  const double ate_odom = eval::absoluteTrajectoryError(odom, ref, dim);
   // CARMEN: the benchmark's relation error of the graph too (every relation of the log, loop
   // relations included: they are edges of the graphs whose gate accepts them).
-  auto relErr = [&](const core::Isometries& poses) {
+  auto relErr = [&](const coral::Isometries& poses) {
     if (relations.empty()) return std::string();
-    const core::RelationError e = core::relationError(nodes, poses, relations, kAttachLines);
+    const eval::RelationError e = eval::relationError(nodes, poses, relations, kAttachLines);
     char buf[64];
     std::snprintf(buf, sizeof buf, " %9.3f %8.2f", e.translation, e.rotation_deg);
     return std::string(buf);
@@ -208,27 +208,27 @@ int main(int argc, char** argv) {
               "edges", relations.empty() ? "" : "  rel [m]  rel [deg]");
   std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
               relErr(odom).c_str());
-  for (const std::string& gate : core::loopGateNames()) {
+  for (const std::string& gate : eval::loopGateNames()) {
     int ta = 0, fa = 0;
-    std::vector<core::PoseGraphEdge> edges = odom_edges;
+    std::vector<eval::PoseGraphEdge> edges = odom_edges;
     for (const Judged* j : table) {
-      if (!core::loopGateAccepts(gate, j->c, j->v, verdict)) continue;
+      if (!eval::loopGateAccepts(gate, j->c, j->v, verdict)) continue;
       (j->c.is_true ? ta : fa)++;
       if (j->in_graph)  // the rows' candidates between scans of the graph
         edges.push_back({j->node_a, j->node_b, j->T_edge, graph.loop_t, graph.loop_r, true});
     }
-    core::Isometries poses = odom;
-    core::PoseGraphResult res;
-    if (!core::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
-    const double ate = core::absoluteTrajectoryError(poses, ref, dim);
+    coral::Isometries poses = odom;
+    eval::PoseGraphResult res;
+    if (!eval::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
+    const double ate = eval::absoluteTrajectoryError(poses, ref, dim);
     std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu%s\n", gate.c_str(), ta, n_true, fa,
                 n_false, ate, edges.size() - odom_edges.size(), relErr(poses).c_str());
     if (!out_dir.empty()) {
       std::string name = gate;
       std::replace(name.begin(), name.end(), '<', '_');
       std::replace(name.begin(), name.end(), '=', '_');
-      if (!core::writeTumTrajectory(out_dir + "/" + name + ".tum", stamps, poses, &err) ||
-          !core::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err))
+      if (!eval::writeTumTrajectory(out_dir + "/" + name + ".tum", stamps, poses, &err) ||
+          !eval::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err))
         return fail(err);
     }
   }

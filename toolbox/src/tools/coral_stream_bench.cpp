@@ -21,13 +21,14 @@
 #include "coral_introspection/ros_eval/stream_bench.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
-namespace core = coral_introspection::core;
+namespace ros_eval = coral_introspection::ros_eval;
+namespace eval = coral_introspection::eval;
 using coral_introspection::AlignmentQuality;
 
 namespace {
 
 struct Args {
-  ra::StreamOptions stream;
+  ros_eval::StreamOptions stream;
   std::string cloud, alignment = "alignment", node = "coral", pid_of = "/coral_manager";
   double duration = 60.0, warmup = 3.0, report = 10.0, settle = 2.0;
   bool monitor = false;
@@ -50,11 +51,11 @@ constexpr const char* kUsage =
     "  --node NAME         nodelet name in /diagnostics (coral)\n"
     "  --pid-of NODE       ROS node whose memory is reported (/coral_manager)";
 
-int fail(const std::string& msg) { return core::toolError("coral_stream_bench", msg, kUsage); }
+int fail(const std::string& msg) { return eval::toolError("coral_stream_bench", msg, kUsage); }
 
 // The status main() returns now (0 after --help), or nothing to go on with *a.
 std::optional<int> parse(int argc, char** argv, Args* a) {
-  core::ToolArgs args;
+  eval::ToolArgs args;
   std::string err;
   const std::vector<std::string> strings = {"--cloud",     "--topic", "--frame", "--fixed-frame",
                                             "--alignment", "--node",  "--pid-of"};
@@ -66,12 +67,12 @@ std::optional<int> parse(int argc, char** argv, Args* a) {
   std::vector<std::string> options = strings;
   options.push_back("--stride");
   for (const auto& [name, value] : numbers) options.push_back(name);
-  if (const auto exit = core::readCommandLine("coral_stream_bench", kUsage, argc, argv, options,
+  if (const auto exit = eval::readCommandLine("coral_stream_bench", kUsage, argc, argv, options,
                                               {"--monitor"}, &args))
     return *exit;
   for (const auto& [name, value] : numbers)
-    if (!core::numberOption(args, name, *value, value, &err)) return fail(err);
-  if (!core::intOption(args, "--stride", a->stream.stride, std::numeric_limits<int>::min(),
+    if (!eval::numberOption(args, name, *value, value, &err)) return fail(err);
+  if (!eval::intOption(args, "--stride", a->stream.stride, std::numeric_limits<int>::min(),
                        std::numeric_limits<int>::max(), &a->stream.stride, &err))
     return fail(err);
   a->monitor = args.flag("--monitor");
@@ -102,17 +103,17 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh;
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  ra::VerdictMonitor monitor(nh, a.alignment, a.node);
+  ros_eval::VerdictMonitor monitor(nh, a.alignment, a.node);
 
-  std::unique_ptr<ra::CloudStreamer> streamer;
+  std::unique_ptr<ros_eval::CloudStreamer> streamer;
   if (!a.monitor) {
-    core::LoadedCloud cloud;
+    eval::LoadedCloud cloud;
     std::string err;
-    if (!core::loadCloud(a.cloud, &cloud, &err)) {
+    if (!eval::loadCloud(a.cloud, &cloud, &err)) {
       std::fprintf(stderr, "coral_stream_bench: %s\n", err.c_str());
       return 1;
     }
-    streamer = std::make_unique<ra::CloudStreamer>(nh, cloud.points, a.stream);
+    streamer = std::make_unique<ros_eval::CloudStreamer>(nh, cloud.points, a.stream);
     if (!streamer->waitForSubscriber(20.0)) {
       std::fprintf(stderr, "coral_stream_bench: nobody subscribes %s (is the nodelet running?)\n",
                    nh.resolveName(a.stream.topic).c_str());
@@ -133,9 +134,9 @@ int main(int argc, char** argv) {
   };
   wait(a.warmup);
 
-  const std::optional<int> pid = ra::nodePid(a.pid_of);
+  const std::optional<int> pid = ros_eval::nodePid(a.pid_of);
   if (!pid) std::printf("(no memory figures: node %s not found)\n", a.pid_of.c_str());
-  auto rss = [&] { return pid ? ra::processRssMiB(*pid) : 0.0; };
+  auto rss = [&] { return pid ? ros_eval::processRssMiB(*pid) : 0.0; };
   monitor.reset();
   const auto diag0 = monitor.diagnostics();
   const double rss0 = rss();
@@ -145,7 +146,7 @@ int main(int argc, char** argv) {
     const double step = std::min(a.report, a.duration - t);
     wait(step);
     t += step;
-    const ra::StreamSummary s = monitor.summary();
+    const ros_eval::StreamSummary s = monitor.summary();
     const double r = rss();
     rss_max = std::max(rss_max, r);
     const auto d = monitor.diagnostics();
@@ -161,7 +162,7 @@ int main(int argc, char** argv) {
   }
   const double measured = (ros::WallTime::now() - start).toSec();
   ros::WallDuration(a.settle).sleep();  // last verdicts and one more diagnostics report
-  const ra::StreamSummary s = monitor.summary();
+  const ros_eval::StreamSummary s = monitor.summary();
   const auto d = monitor.diagnostics();
   const double rss1 = rss();
   auto delta = [&](const char* key) { return counter(d, key) - counter(diag0, key); };

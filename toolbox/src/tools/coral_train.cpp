@@ -16,8 +16,11 @@
 #include "coral_introspection/ros_eval/bag_training_reader.hpp"
 #include "coral_introspection/ros_eval/verdict_training.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 namespace ros_adapters = coral_introspection::ros_adapters;
+namespace ros_eval = coral_introspection::ros_eval;
 
 namespace {
 
@@ -117,7 +120,7 @@ struct Input {
 
 // Scans + poses from an Oxford folder or a bag, then every sample of the protocol.
 bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
-             const ros_adapters::BagTrainingOptions& bcfg, double spacing,
+             const ros_eval::BagTrainingOptions& bcfg, double spacing,
              const std::vector<Perturbation>& perts, const FeatureConfig& fcfg, SampleSet* set,
              std::size_t* n_scans) {
   std::vector<TrainingScan> scans;
@@ -132,8 +135,8 @@ bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
       return false;
     }
   } else {
-    ros_adapters::BagTrainingSummary sum;
-    if (!ros_adapters::loadBagTrainingScans(in.bag, bcfg, bar, &scans, &poses, &sum, &err)) {
+    ros_eval::BagTrainingSummary sum;
+    if (!ros_eval::loadBagTrainingScans(in.bag, bcfg, bar, &scans, &poses, &sum, &err)) {
       std::cerr << "\ncoral_train: " << err << "\n";
       return false;
     }
@@ -161,7 +164,7 @@ int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::
       std::cerr << "coral_train: " << k << " belongs to the paper protocol, not to --preset\n";
       return 2;
     }
-  ros_adapters::VerdictTrainingOptions v;
+  ros_eval::VerdictTrainingOptions v;
   v.preset = opt["--preset"];
   v.datasets = datasets;
   v.sample_files = sample_files;
@@ -187,7 +190,7 @@ int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::
     std::cerr << "coral_train: bad option value: " << e.what() << "\n";
     return 2;
   }
-  return ros_adapters::runVerdictTraining(v, std::cerr);
+  return ros_eval::runVerdictTraining(v, std::cerr);
 }
 
 }  // namespace
@@ -253,9 +256,9 @@ int main(int argc, char** argv) {
     const Input test_in{get("--test_oxford", ""), get("--test_bag", "")};
     const bool tt = !test_in.oxford.empty() || !test_in.bag.empty();
     // Radar defaults for an Oxford folder or a bag whose scan topic carries polar images.
-    const bool images = !train_in.bag.empty() &&
-                        ros_adapters::bagTopicType(train_in.bag, get("--scan_topic", "/scan")) ==
-                            "sensor_msgs/Image";
+    const bool images =
+        !train_in.bag.empty() &&
+        ros_eval::bagTopicType(train_in.bag, get("--scan_topic", "/scan")) == "sensor_msgs/Image";
     const std::string sensor =
         get("--sensor", train_in.oxford.empty() && !images ? "lidar3d" : "radar");
     if (sensor != "radar" && sensor != "lidar3d" && sensor != "lidar2d") {
@@ -288,7 +291,7 @@ int main(int argc, char** argv) {
     ocfg.with_cfear = fcfg.with_cfear;
     ocfg.motion_compensation = !opt.count("--no_motion_compensation");
     ocfg.max_scans = std::stoi(get("--max_scans", "0"));
-    ros_adapters::BagTrainingOptions bcfg;
+    ros_eval::BagTrainingOptions bcfg;
     bcfg.scan_topic = get("--scan_topic", "/scan");
     bcfg.odom_topic = get("--odom_topic", "");
     bcfg.fixed_frame = get("--fixed_frame", "odom");

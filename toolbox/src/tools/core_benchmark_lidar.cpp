@@ -37,7 +37,8 @@
 #include "coral_introspection/eval/perturbation.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 using Clock = std::chrono::steady_clock;
 
 namespace {

@@ -8,7 +8,8 @@
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 int main() {
   std::mt19937 rng(7);

@@ -16,7 +16,9 @@
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 
 namespace {
 

@@ -24,8 +24,8 @@ namespace {
 
 // RMSE of (z - z_first) - (z_gt - z_gt_first) over the estimated poses, ground truth
 // interpolated linearly in time (the odometry's vertical drift; no alignment needed).
-double verticalApe(const std::vector<core::StampedPose>& est,
-                   const std::vector<core::StampedPose>& gt) {
+double verticalApe(const std::vector<eval::StampedPose>& est,
+                   const std::vector<eval::StampedPose>& gt) {
   auto gt_z = [&gt](double t) {
     std::size_t k = 1;
     while (k + 1 < gt.size() && gt[k].t < t) ++k;
@@ -35,7 +35,7 @@ double verticalApe(const std::vector<core::StampedPose>& est,
   if (est.empty() || gt.size() < 2) return 0.0;
   const double z0 = est.front().p.z(), g0 = gt_z(est.front().t);
   double sum = 0.0;
-  for (const core::StampedPose& p : est) {
+  for (const eval::StampedPose& p : est) {
     const double e = (p.p.z() - z0) - (gt_z(p.t) - g0);
     sum += e * e;
   }
@@ -49,8 +49,8 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
-  core::ToolArgs args;
-  if (const auto exit = core::readCommandLine(
+  eval::ToolArgs args;
+  if (const auto exit = eval::readCommandLine(
           "coral_rio_run", kUsage, argc, argv,
           {"--sequence", "--config", "--output", "--report", "--set"}, {"--loop"}, &args))
     return *exit;
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
   const bool loop = args.flag("--loop");
   // No config would mean default extrinsics, which no rig has (config_yaml.hpp).
   if (sequence.empty() || config.empty())
-    return core::toolError("coral_rio_run", "--sequence and --config are required", kUsage);
+    return eval::toolError("coral_rio_run", "--sequence and --config are required", kUsage);
   config::ParamTree tree;
   std::string err;
   if (!config::loadYamlFile(config, &tree, &err)) {
@@ -77,22 +77,22 @@ int main(int argc, char** argv) {
     std::cerr << "coral_rio_run: invalid config: " << err << "\n";
     return 1;
   }
-  core::RioSequence seq;
-  if (!core::readRioSequence(sequence, &seq, &err)) {
+  eval::RioSequence seq;
+  if (!eval::readRioSequence(sequence, &seq, &err)) {
     std::cerr << "coral_rio_run: " << err << "\n";
     return 1;
   }
   rio::Estimator est(cfg);
-  core::RioRun run;
+  eval::RioRun run;
   const auto t0 = std::chrono::steady_clock::now();
-  core::replay(
+  eval::replay(
       seq, [&](const rio::ImuSample& s) { run.add(est.addImu(s)); },
       [&](const rio::RadarFrame& f) { run.add(est.addRadar(f)); },
       [&](const rio::BaroSample& b) { est.addBaro(b); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double duration = seq.imu.empty() ? 0.0 : seq.imu.back().t - seq.imu.front().t;
   std::cout << run.summary(wall, duration);
-  if (!output.empty() && !core::writeTum(output, run.trajectory(), &err)) {
+  if (!output.empty() && !eval::writeTum(output, run.trajectory(), &err)) {
     std::cerr << "coral_rio_run: " << err << "\n";
     return 1;
   }
@@ -101,13 +101,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (loop) {
-    const core::LoopError e = core::loopError(run.trajectory());
+    const eval::LoopError e = eval::loopError(run.trajectory());
     std::cout << "loop end-point error: horizontal " << e.horizontal << " m, vertical "
               << e.vertical << " m, yaw " << e.yaw_deg << " deg\n";
   }
   if (!seq.ground_truth.empty()) {
-    const core::TrajectoryErrors e =
-        core::trajectoryErrors(run.trajectory(), seq.ground_truth, 0.02, true);
+    const eval::TrajectoryErrors e =
+        eval::trajectoryErrors(run.trajectory(), seq.ground_truth, 0.02, true);
     std::cout << "APE RMSE: " << e.ape_trans << " m, " << e.ape_rot_deg
               << " deg; RPE RMSE: " << e.rpe_trans << " m, " << e.rpe_rot_deg << " deg (" << e.pairs
               << " poses)\n";

@@ -20,8 +20,8 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
-  core::ToolArgs args;
-  if (const auto exit = core::readCommandLine(
+  eval::ToolArgs args;
+  if (const auto exit = eval::readCommandLine(
           "coral_rio_simulate", kUsage, argc, argv,
           {"--trajectory", "--seed", "--reflectors", "--noise-scale", "--output"}, {"--barometer"},
           &args))
@@ -29,27 +29,27 @@ int main(int argc, char** argv) {
   std::string err;
   int seed = 1, reflectors = -1;  // reflectors <= 0: the trajectory's own number
   double noise_scale = 1.0;
-  if (!core::intOption(args, "--seed", seed, 0, std::numeric_limits<int>::max(), &seed, &err) ||
-      !core::intOption(args, "--reflectors", reflectors, std::numeric_limits<int>::min(),
+  if (!eval::intOption(args, "--seed", seed, 0, std::numeric_limits<int>::max(), &seed, &err) ||
+      !eval::intOption(args, "--reflectors", reflectors, std::numeric_limits<int>::min(),
                        std::numeric_limits<int>::max(), &reflectors, &err) ||
-      !core::numberOption(args, "--noise-scale", noise_scale, &noise_scale, &err))
-    return core::toolError("coral_rio_simulate", err, kUsage);
+      !eval::numberOption(args, "--noise-scale", noise_scale, &noise_scale, &err))
+    return eval::toolError("coral_rio_simulate", err, kUsage);
   const std::string trajectory = args.get("--trajectory", "handheld"),
                     output = args.get("--output");
   const bool barometer = args.flag("--barometer");
   if (output.empty() || (trajectory != "handheld" && trajectory != "vehicle"))
-    return core::toolError("coral_rio_simulate",
+    return eval::toolError("coral_rio_simulate",
                            "--output is required and --trajectory handheld or vehicle", kUsage);
-  core::RioSimConfig cfg = trajectory == "handheld"
-                               ? core::RioSimConfig::handheld(static_cast<unsigned>(seed))
-                               : core::RioSimConfig::vehicle(static_cast<unsigned>(seed));
+  eval::RioSimConfig cfg = trajectory == "handheld"
+                               ? eval::RioSimConfig::handheld(static_cast<unsigned>(seed))
+                               : eval::RioSimConfig::vehicle(static_cast<unsigned>(seed));
   if (reflectors > 0) cfg.num_reflectors = reflectors;
   cfg.barometer = barometer;
   cfg.point_noise.sigma_range *= noise_scale;
   cfg.point_noise.sigma_azimuth *= noise_scale;
   cfg.point_noise.sigma_elevation *= noise_scale;
-  const core::RioSequence seq = core::simulateRio(cfg);
-  if (!core::writeRioSequence(output, seq, &err)) {
+  const eval::RioSequence seq = eval::simulateRio(cfg);
+  if (!eval::writeRioSequence(output, seq, &err)) {
     std::cerr << "coral_rio_simulate: " << err << "\n";
     return 1;
   }

@@ -11,7 +11,8 @@
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
-namespace core = coral_introspection::core;
+namespace ros_eval = coral_introspection::ros_eval;
+namespace eval = coral_introspection::eval;
 
 namespace {
 constexpr const char* kUsage =
@@ -21,14 +22,14 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
-  ra::OxfordBagOptions opt;
-  core::ToolArgs args;
-  if (const auto exit = core::readCommandLine(
+  ros_eval::OxfordBagOptions opt;
+  eval::ToolArgs args;
+  if (const auto exit = eval::readCommandLine(
           "oxford_to_bag", kUsage, argc, argv,
           {"--topic", "--tf-topic", "--fixed-frame", "--radar-frame"}, {}, &args, 2))
     return *exit;
   if (args.positional.size() != 2)
-    return core::toolError("oxford_to_bag", "<oxford_folder> and <output.bag> are required",
+    return eval::toolError("oxford_to_bag", "<oxford_folder> and <output.bag> are required",
                            kUsage);
   const std::string &folder = args.positional[0], &bag = args.positional[1];
   opt.image_topic = args.get("--topic", opt.image_topic);
@@ -36,9 +37,9 @@ int main(int argc, char** argv) {
   opt.fixed_frame = args.get("--fixed-frame", opt.fixed_frame);
   opt.radar_frame = args.get("--radar-frame", opt.radar_frame);
   ros::Time::init();
-  ra::OxfordBagSummary sum;
+  ros_eval::OxfordBagSummary sum;
   std::string err;
-  if (!ra::writeOxfordBag(folder, bag, opt, &sum, &err)) {
+  if (!ros_eval::writeOxfordBag(folder, bag, opt, &sum, &err)) {
     std::fprintf(stderr, "oxford_to_bag: %s\n", err.c_str());
     return 1;
   }

@@ -13,7 +13,7 @@
 #include "coral_introspection/eval/training_set.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct CarmenLaserScan {
   double stamp = 0.0;            // ipc_timestamp [s]
@@ -38,7 +38,7 @@ bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
                    std::string* error);
 
 // Sensor-frame points (z = 0) of the valid readings.
-Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& geometry);
+coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& geometry);
 
 struct Relation {
   double t1 = 0.0, t2 = 0.0;
@@ -75,8 +75,8 @@ bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::strin
 // with *error on an unreadable file or an index outside the log.
 bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
                        const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
-                       Isometries* T_world_ref, Isometries* T_world_odom,
+                       coral::Isometries* T_world_ref, coral::Isometries* T_world_odom,
                        std::vector<int>* raw_index, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

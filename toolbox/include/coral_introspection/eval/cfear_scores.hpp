@@ -10,7 +10,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct CfearConfig {
   double resolution = 3.0;  // [m] grid cell size, surface radius and association radius
@@ -44,7 +44,7 @@ struct CfearScores {
 
 // Oriented surface points of one scan: mean of each occupied grid cell, then mean,
 // covariance and normal of the points within `resolution` of it.
-SurfacePoints computeSurfacePoints(const Points& points, const CfearConfig& cfg);
+SurfacePoints computeSurfacePoints(const coral::Points& points, const CfearConfig& cfg);
 
 // Applies the planar part of T_dst_src (mean R m + t, covariance R S R^T, normal R n).
 SurfacePoints transformSurfacePoints(const SurfacePoints& s, const Eigen::Isometry3d& T_dst_src);
@@ -61,5 +61,5 @@ double p2dCost(const SurfacePoint& target, const Eigen::Vector2d& x);
 CfearScores computeCfearScores(const SurfacePoints& target, const SurfacePoints& source,
                                const CfearConfig& cfg);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

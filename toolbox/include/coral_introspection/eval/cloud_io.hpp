@@ -12,10 +12,10 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct LoadedCloud {
-  Points points;                  // as stored (non-finite points kept: CorAl drops them)
+  coral::Points points;           // as stored (non-finite points kept: CorAl drops them)
   std::vector<double> intensity;  // same size as points, or empty when the file has none
 };
 
@@ -26,7 +26,7 @@ bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error);
 
 // Reads the first three numeric columns of every data line. The first line is skipped
 // when it is not numeric (a header). False with a message on a missing file or bad line.
-bool readCsvPoints(const std::string& path, Points* points, std::string* error);
+bool readCsvPoints(const std::string& path, coral::Points* points, std::string* error);
 
 // Reads a 4x4 row-major pose (16 numbers after the first column) for the row whose
 // first column equals `name` (libpointmatcher's carCloudList.csv).
@@ -39,7 +39,7 @@ bool readCsvPose(const std::string& path, const std::string& name, Eigen::Isomet
 bool readTransformFile(const std::string& path, Eigen::Isometry3d* T, std::string* error);
 
 // A KITTI-layout pose list: one 3x4 row-major world_T_body per line (12 numbers).
-bool readKittiPoses(const std::string& path, Isometries* poses, std::string* error);
+bool readKittiPoses(const std::string& path, coral::Isometries* poses, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

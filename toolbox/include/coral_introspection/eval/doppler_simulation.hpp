@@ -9,7 +9,7 @@
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct DopplerSimConfig {
   int num_points = 60;
@@ -19,7 +19,7 @@ struct DopplerSimConfig {
   double azimuth_half_fov = 1.05;    // [rad] points within +- this azimuth
   double elevation_half_fov = 0.26;  // [rad]; 0 gives a planar (z = 0) scan
   // Polar noise on the measured positions (the bearing used for Eq. 9 is noisy too).
-  RadarNoiseConfig position_noise{0.05, 0.0175, 0.035};
+  radar::RadarNoiseConfig position_noise{0.05, 0.0175, 0.035};
   double sigma_doppler = 0.05;   // [m/s] Gaussian noise on v_r
   double mover_min_speed = 0.5;  // [m/s] |extra radial velocity| of a moving point
   double mover_max_speed = 3.0;  // [m/s]
@@ -27,14 +27,14 @@ struct DopplerSimConfig {
 };
 
 struct DopplerSimScan {
-  Points points;                        // measured positions, sensor frame
+  coral::Points points;                 // measured positions, sensor frame
   std::vector<double> radial_velocity;  // measured v_r [m/s]
   std::vector<bool> is_static;
 };
 
 // One scan seen by a sensor moving with v_sensor (sensor frame).
-DopplerSimScan simulateDopplerScan(const Vec3& v_sensor, const DopplerSimConfig& cfg,
+DopplerSimScan simulateDopplerScan(const coral::Vec3& v_sensor, const DopplerSimConfig& cfg,
                                    std::mt19937& rng);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -14,11 +14,11 @@
 #include "coral_introspection/coral/verdict.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct SweepError {
   std::string label;  // "ground truth", "x+1", "yaw-8", "yaw+90deg", ...
-  Axis axis = Axis::kX;
+  coral::Axis axis = coral::Axis::kX;
   int sign = 0;               // +1, -1 (0 at ground truth)
   double multiple = 0;        // of the tolerance (0 for the fixed yaw angles and ground truth)
   double magnitude = 0;       // [m] or [deg]
@@ -39,12 +39,12 @@ inline const std::vector<double>& sweepYawDegrees() {
 // Ground truth first, then every axis x multiple x sign, then the fixed yaw angles (both
 // signs; 180 deg once). Fixed yaw angles below the rotation tolerance are left out (they are
 // not errors at that tolerance).
-std::vector<SweepError> sweepErrors(const ToleranceConfig& tol, int dimension);
+std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension);
 
 // One CSV line per judged error: the verdict and the terms behind it.
 std::string errorSweepCsvHeader();
 std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepError& e,
-                             const AlignmentVerdict& v);
+                             const coral::AlignmentVerdict& v);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

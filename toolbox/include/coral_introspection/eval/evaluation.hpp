@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/logistic_regression.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 // A quality measure and the classifier inputs it provides (x1, x2, ...).
 struct MethodSpec {
@@ -39,9 +39,9 @@ struct SampleSet {
 };
 
 struct EvaluationConfig {
-  int folds = 5;                        // k of the contiguous k-fold cross-validation
-  LogisticRegressionConfig regression;  // balanced class weights by default
-  std::string validate() const;         // empty when valid
+  int folds = 5;                               // k of the contiguous k-fold cross-validation
+  coral::LogisticRegressionConfig regression;  // balanced class weights by default
+  std::string validate() const;                // empty when valid
 };
 
 // One cell of Table II: a method at one error magnitude, on held-out predictions.
@@ -65,7 +65,8 @@ void selectSamples(const SampleSet& set, int method, const std::string& group,
 
 // Fits method `method` on the samples with the given indices (finite features expected).
 bool fitSamples(const SampleSet& set, int method, const std::vector<int>& indices,
-                const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error);
+                const coral::LogisticRegressionConfig& cfg, coral::LogisticModel* model,
+                std::string* error);
 
 // Fills pairs, class counts, accuracies (at `threshold`) and AUC of a row from its scores
 // and labels; `indices` are the samples behind them (for the pair count).
@@ -74,7 +75,8 @@ void summarizeRow(const SampleSet& set, const std::vector<int>& indices, double 
 
 // Fits method `method` on the samples of `group` (empty = all magnitudes).
 bool fitMethod(const SampleSet& set, int method, const std::string& group,
-               const LogisticRegressionConfig& cfg, LogisticModel* model, std::string* error);
+               const coral::LogisticRegressionConfig& cfg, coral::LogisticModel* model,
+               std::string* error);
 
 // k-fold over contiguous blocks of pair indices; one row per method x group.
 bool crossValidate(const SampleSet& set, const EvaluationConfig& cfg,
@@ -84,5 +86,5 @@ bool crossValidate(const SampleSet& set, const EvaluationConfig& cfg,
 bool trainTest(const SampleSet& train, const SampleSet& test, const EvaluationConfig& cfg,
                std::vector<EvaluationRow>* rows, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

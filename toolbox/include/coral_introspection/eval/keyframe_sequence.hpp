@@ -10,7 +10,7 @@
 #include "coral_introspection/eval/training_set.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct KeyframeSequenceConfig {
   std::string scans_dir = "Scans";                 // relative to the folder
@@ -25,7 +25,7 @@ struct KeyframeSequenceConfig {
 // False with *error on a missing/unreadable scan or pose file or a count mismatch.
 bool loadKeyframeSequence(const std::string& folder, const KeyframeSequenceConfig& cfg,
                           const Progress& progress, std::vector<TrainingScan>* scans,
-                          Isometries* T_world_scan, std::string* error);
+                          coral::Isometries* T_world_scan, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

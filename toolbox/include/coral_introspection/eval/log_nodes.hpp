@@ -12,7 +12,7 @@
 #include "coral_introspection/eval/carmen_log.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 class LogNodes {
  public:
@@ -40,8 +40,8 @@ struct RelationError {
 // For each relation (t1, t2, T_1_2): the estimate's relative pose P(t1)^-1 P(t2), with
 // P(t) = T_world_node[node] * T_node_scan, against T_1_2. Relations whose scans do not attach
 // within max_lines are skipped (counted out of n).
-RelationError relationError(const LogNodes& nodes, const Isometries& T_world_node,
+RelationError relationError(const LogNodes& nodes, const coral::Isometries& T_world_node,
                             const std::vector<Relation>& relations, int max_lines);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

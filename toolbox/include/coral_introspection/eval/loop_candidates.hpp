@@ -17,7 +17,7 @@
 #include "coral_introspection/eval/training_set.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct LoopCandidateConfig {
   int dimension = 3;  // 2: planar ICP (x, y, yaw), 3: `registration`
@@ -43,10 +43,10 @@ struct LoopCandidateConfig {
   // Revisits registered from the reference relative pose moved by this much along x and yaw
   // (a front end whose drift was already corrected) instead of from the odometry; < 0 = from
   // the odometry. For logs whose raw odometry drifts by metres (CARMEN).
-  double init_offset = -1.0;      // [m]
-  double init_offset_deg = 10.0;  // [deg] with init_offset >= 0
-  ToleranceConfig tolerance;      // the preset's: true = within it
-  std::string validate() const;   // empty when valid
+  double init_offset = -1.0;         // [m]
+  double init_offset_deg = 10.0;     // [deg] with init_offset >= 0
+  coral::ToleranceConfig tolerance;  // the preset's: true = within it
+  std::string validate() const;      // empty when valid
 };
 
 struct LoopCandidate {
@@ -68,24 +68,25 @@ struct LoopCandidate {
 // (a working place recognizer), at least 30 corrected scans apart (up to 300 revisits and 60
 // look-alike pairs), registered from the reference moved by 0.5 m and 10 deg. Tolerance: the
 // preset's.
-LoopCandidateConfig evaluationCandidates(int dimension, const ToleranceConfig& tolerance);
+LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceConfig& tolerance);
 
 // Registers b onto a from T_init (b's points into a's frame) and fills T_a_b, converged,
 // fitness. Scans in their own sensor frames.
-void registerPair(const Points& a, const Points& b, const Eigen::Isometry3d& T_init,
+void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::Isometry3d& T_init,
                   const LoopCandidateConfig& cfg, LoopCandidate* c);
 
 // Candidates (a) and (b) of a sequence with reference poses T_world_scan (the reference
 // also decides true / false) and odometry poses (the initial guess of (a)); candidates in
 // the ambiguous band between the tolerance and false_multiple tolerances are dropped.
 // Deterministic. False with *error on an invalid config or mismatched sizes.
-bool buildLoopCandidates(const std::vector<TrainingScan>& scans, const Isometries& T_world_ref,
-                         const Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+bool buildLoopCandidates(const std::vector<TrainingScan>& scans,
+                         const coral::Isometries& T_world_ref,
+                         const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
                          std::vector<LoopCandidate>* out, std::string* error);
 
 // Error of T_a_b against the reference T_ref: translation [m], rotation [deg].
 void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
                    double* r_deg);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -2,7 +2,7 @@
 // edge" (doc/loop_closure.md), decided from one CorAl evaluation of the candidate
 // (judged with method `both`, so the classifier and the relative check are both filled, and
 // with the loop gate as `gate`, so the free-space conflict is measured when it uses it):
-//   verdict      core::loopClosureVerdict: relative check + the loop gate (this package)
+//   verdict      coral::loopClosureVerdict: relative check + the loop gate (this package)
 //   no_free_space  the same without the gate's free-space term (what that term adds)
 //   relative     the relative check alone (the previous default)
 //   classifier   the classifier alone at its threshold
@@ -19,14 +19,14 @@
 #include "coral_introspection/eval/loop_candidates.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 const std::vector<std::string>& loopGateNames();
 
 // Whether `gate` (one of loopGateNames()) accepts candidate c whose CorAl evaluation is
 // v_both (method kBoth), with the preset's verdict configuration cfg.
 bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
-                     const AlignmentVerdict& v_both, const VerdictConfig& cfg);
+                     const coral::AlignmentVerdict& v_both, const coral::VerdictConfig& cfg);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

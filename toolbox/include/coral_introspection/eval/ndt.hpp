@@ -7,7 +7,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct NdtConfig {
   int dimension = 3;        // 2 (radar) or 3
@@ -30,7 +30,7 @@ struct NdtResult {
 
 // Both clouds in one frame. Non-finite points are ignored. Never throws; precondition
 // cfg.validate() is empty (otherwise returns an invalid result).
-NdtResult computeNdtScore(const Points& a, const Points& b, const NdtConfig& cfg);
+NdtResult computeNdtScore(const coral::Points& a, const coral::Points& b, const NdtConfig& cfg);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -8,7 +8,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct OxfordDataset {
   std::string folder;
@@ -26,5 +26,5 @@ struct OxfordDataset {
   Eigen::Isometry3d T_first_scan(std::size_t i) const;
 };
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

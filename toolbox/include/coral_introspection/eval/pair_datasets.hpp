@@ -17,7 +17,7 @@
 #include "coral_introspection/eval/oxford_training.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct DatasetSpec {
   std::string name;  // report label; default: the path's last component without extension
@@ -46,5 +46,5 @@ struct PairDataset {
 bool loadPairDataset(const DatasetSpec& spec, const DatasetOptions& options,
                      const Progress& progress, PairDataset* out, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

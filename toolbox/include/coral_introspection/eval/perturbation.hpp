@@ -7,7 +7,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct PerturbationConfig {
   // Sec. V radar protocol: 4 translations per pair (forward +x, backward -x, left +y,
@@ -42,5 +42,5 @@ Eigen::Isometry3d perturb(const Eigen::Isometry3d& T_a_b, const Perturbation& p)
 // Label used for a group: "0.3 m", "0.1 m + 0.1 rad", "0.05 rad".
 std::string groupLabel(double translation_m, double yaw_rad);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 // Relative-pose measurement T_from_to between poses `from` and `to` (indices into the pose
 // list). Its residual r = Log(T_from_to^-1 T_world_from^-1 T_world_to) = (translation [m],
@@ -54,27 +54,27 @@ struct PoseGraphResult {
 // False with result->error (poses untouched) on an invalid config, no poses, an edge index
 // out of range or from == to, or a non-positive / non-finite sigma.
 bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphConfig& cfg,
-                       Isometries* poses, PoseGraphResult* result);
+                       coral::Isometries* poses, PoseGraphResult* result);
 
 // Edges k -> k+1 with the relative poses of consecutive odometry poses (loop = false).
-std::vector<PoseGraphEdge> odometryEdges(const Isometries& odom_poses, double sigma_translation,
-                                         double sigma_rotation);
+std::vector<PoseGraphEdge> odometryEdges(const coral::Isometries& odom_poses,
+                                         double sigma_translation, double sigma_rotation);
 
 // Absolute trajectory error [m]: RMSE of the position differences after the best rigid
 // alignment (no scale) of estimate onto reference, pose k with pose k. dimension 2: only x,
 // y and yaw are aligned and the error is horizontal; otherwise SE(3) Umeyama on the positions
 // (trajectoryErrors of trajectory_metrics.hpp). NaN when the sizes differ or are 0.
-double absoluteTrajectoryError(const Isometries& estimate, const Isometries& reference,
-                               int dimension);
+double absoluteTrajectoryError(const coral::Isometries& estimate,
+                               const coral::Isometries& reference, int dimension);
 
 // TUM file ("stamp tx ty tz qx qy qz qw" per line; writeTum of trajectory_metrics.hpp).
 // False with *error when the sizes differ or the file cannot be written.
 bool writeTumTrajectory(const std::string& path, const std::vector<double>& stamps,
-                        const Isometries& poses, std::string* error);
+                        const coral::Isometries& poses, std::string* error);
 
 // KITTI pose file (3x4 row-major [R | t] per line), the layout readKittiPoses (cloud_io.hpp)
 // reads. False with *error when the file cannot be written.
-bool writeKittiPoses(const std::string& path, const Isometries& poses, std::string* error);
+bool writeKittiPoses(const std::string& path, const coral::Isometries& poses, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

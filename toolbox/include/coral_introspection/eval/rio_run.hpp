@@ -11,7 +11,7 @@
 #include "coral_introspection/rio/estimator.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 class RioRun {
  public:
@@ -31,5 +31,5 @@ class RioRun {
   std::vector<double> waiting_;  // frames before the initialisation
 };
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

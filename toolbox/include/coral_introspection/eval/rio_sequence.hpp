@@ -15,7 +15,7 @@
 #include "coral_introspection/rio/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct StampedPose {
   double t = 0.0;
@@ -56,5 +56,5 @@ void replay(const RioSequence& seq, OnImu&& on_imu, OnRadar&& on_radar) {
   replay(seq, on_imu, on_radar, [](const rio::BaroSample&) {});
 }
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

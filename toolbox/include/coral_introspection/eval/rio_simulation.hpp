@@ -15,7 +15,7 @@
 #include "coral_introspection/rio/radar_factors.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 enum class SimTrajectory { kHandheld, kVehicle };
 
@@ -30,7 +30,7 @@ struct RioSimConfig {
   rio::Vec3 acc_bias = rio::Vec3(0.05, -0.03, 0.08);                    // [m/s^2] initial
   rio::Vec3 gyro_bias = rio::Vec3(0.002, -0.001, 0.003);                // [rad/s] initial
   rio::Extrinsics extrinsics;                                           // radar in the body frame
-  RadarNoiseConfig point_noise{0.04, 0.03, 0.03};                       // true polar noise
+  radar::RadarNoiseConfig point_noise{0.04, 0.03, 0.03};                // true polar noise
   double sigma_doppler = 0.03;                                          // [m/s]
   double max_range = 10.0;                                              // [m]
   double half_fov_azimuth = 1.05, half_fov_elevation = 0.35;            // [rad]
@@ -58,5 +58,5 @@ StampedPose simulatedPose(const RioSimConfig& cfg, double t);
 
 RioSequence simulateRio(const RioSimConfig& cfg);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

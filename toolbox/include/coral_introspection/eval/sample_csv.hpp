@@ -9,7 +9,7 @@
 #include "coral_introspection/eval/evaluation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 // Methods from the <method>/<feature> columns, groups in order of first appearance. False
 // with *error (file:line) on a missing file, an unknown layout or a malformed number.
@@ -21,5 +21,5 @@ bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error)
 // a method mismatch or a (data set, pair) present in two parts.
 bool mergeSampleSets(SampleSet* into, const SampleSet& part, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

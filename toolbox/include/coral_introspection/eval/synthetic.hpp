@@ -10,12 +10,12 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct Rect {
-  Vec3 center;
-  Vec3 half_u;  // half extent along the first in-plane axis
-  Vec3 half_v;  // half extent along the second (orthogonal to half_u)
+  coral::Vec3 center;
+  coral::Vec3 half_u;  // half extent along the first in-plane axis
+  coral::Vec3 half_v;  // half extent along the second (orthogonal to half_u)
 };
 
 struct SyntheticScene {
@@ -24,7 +24,7 @@ struct SyntheticScene {
   // horizontal translation and yaw is observable.
   static SyntheticScene structuredYard();
   // Range to the first surface hit along unit direction d from o, if any within max_range.
-  std::optional<double> castRay(const Vec3& o, const Vec3& d, double max_range) const;
+  std::optional<double> castRay(const coral::Vec3& o, const coral::Vec3& d, double max_range) const;
 };
 
 struct LidarModel {
@@ -39,8 +39,8 @@ struct LidarModel {
 };
 
 // Simulates one scan from sensor pose T_world_sensor; points are in the sensor frame.
-Points simulateScan(const SyntheticScene& scene, const Eigen::Isometry3d& T_world_sensor,
-                    const LidarModel& model, std::mt19937& rng);
+coral::Points simulateScan(const SyntheticScene& scene, const Eigen::Isometry3d& T_world_sensor,
+                           const LidarModel& model, std::mt19937& rng);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -12,7 +12,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct ToolArgs {
   std::map<std::string, std::vector<std::string>> values;  // option -> its values, in order
@@ -59,5 +59,5 @@ bool intOption(const ToolArgs& args, const std::string& option, int fallback, in
 bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, int* out,
                  std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

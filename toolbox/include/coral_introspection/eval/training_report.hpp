@@ -9,15 +9,15 @@
 #include "coral_introspection/eval/evaluation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 // One line per sample: pair, stamps, offset, dx, dy, dyaw, group, label, the data set (only
 // when a sample names one), then every method's features as <method>/<feature> (NaN: no
 // value). Returns false with *error if unwritable. Read back with readSamplesCsv.
 bool writeSamplesCsv(const std::string& path, const SampleSet& set, std::string* error);
 
-// core::classifierYaml (coral/verdict.hpp) written to `path`.
-bool writeClassifierYaml(const std::string& path, const ClassifierConfig& c,
+// coral::classifierYaml (coral/verdict.hpp) written to `path`.
+bool writeClassifierYaml(const std::string& path, const coral::ClassifierConfig& c,
                          const std::vector<std::string>& comments, std::string* error);
 
 // Markdown: a Table II-shaped "accuracy/AUC" table (methods x groups) followed by a
@@ -32,5 +32,5 @@ bool writeRocPng(const std::string& path, const std::vector<EvaluationRow>& rows
 
 bool writeTextFile(const std::string& path, const std::string& text, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

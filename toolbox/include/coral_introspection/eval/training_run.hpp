@@ -9,7 +9,7 @@
 #include "coral_introspection/eval/evaluation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct TrainingRunConfig {
   std::string output_dir = "coral_train_output";
@@ -27,9 +27,9 @@ struct TrainingRunConfig {
 
 struct TrainingRunResult {
   std::vector<EvaluationRow> rows;
-  LogisticModel classifier;      // fitted on every sample of classifier_group
-  std::string classifier_group;  // the group actually used
-  std::string report;            // report.md text
+  coral::LogisticModel classifier;  // fitted on every sample of classifier_group
+  std::string classifier_group;     // the group actually used
+  std::string report;               // report.md text
 };
 
 // Fraction of pairs where CorAl's Q = H_joint - H_sep is lower when aligned than for
@@ -41,5 +41,5 @@ void qualityOrdering(const SampleSet& set, const std::string& group, int* wins, 
 bool runTraining(const SampleSet& set, const SampleSet* test_set, const TrainingRunConfig& cfg,
                  TrainingRunResult* result, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

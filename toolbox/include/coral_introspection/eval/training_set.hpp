@@ -14,13 +14,13 @@
 #include "coral_introspection/eval/perturbation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 // One scan in its own sensor frame.
 struct TrainingScan {
-  double stamp = 0.0;   // [s]
-  Scan scan;            // CorAl / MME / NDT input (radar: RIP features), origin = sensor
-  Points cfear_points;  // CFEAR input (radar: k-strongest points); empty = no CFEAR methods
+  double stamp = 0.0;          // [s]
+  coral::Scan scan;            // CorAl / MME / NDT input (radar: RIP features), origin = sensor
+  coral::Points cfear_points;  // CFEAR input (radar: k-strongest points); empty = no CFEAR methods
 };
 
 struct ScanPair {
@@ -29,9 +29,9 @@ struct ScanPair {
 };
 
 struct FeatureConfig {
-  CoralConfig coral;  // CorAl and MME; CorAl-median uses it with kMedian
-  NdtConfig ndt;      // NDT and Rel-NDT
-  CfearConfig cfear;  // CFEAR-P2P/P2L/P2D (only when scans carry cfear_points)
+  coral::CoralConfig coral;  // CorAl and MME; CorAl-median uses it with kMedian
+  NdtConfig ndt;             // NDT and Rel-NDT
+  CfearConfig cfear;         // CFEAR-P2P/P2L/P2D (only when scans carry cfear_points)
   bool with_cfear = true;
   // Paper's radar settings (Sec. V-A): 2D, r = 1 m, E_reject = 0, epsilon = 0, v = 2r.
   static FeatureConfig radar();
@@ -46,7 +46,7 @@ std::vector<MethodSpec> methodSpecs(const FeatureConfig& cfg);
 // Pairs from poses T_first_i (scan i in a common frame): min_spacing <= 0 gives
 // consecutive pairs (i-1, i); otherwise each scan a is paired with the first later scan
 // at least min_spacing metres away (the paper's "scans taken at least X m apart").
-std::vector<ScanPair> makePairs(const Isometries& T_first_scan, double min_spacing);
+std::vector<ScanPair> makePairs(const coral::Isometries& T_first_scan, double min_spacing);
 
 // Features of every method for b placed into a's frame with T_a_b (NaN where a method has
 // no valid value). surf_a / surf_b are the CFEAR surfaces of a and b in their own frames.
@@ -64,5 +64,5 @@ bool buildSampleSet(const std::vector<TrainingScan>& scans, const std::vector<Sc
                     const std::vector<Perturbation>& perturbations, const FeatureConfig& cfg,
                     const Progress& progress, SampleSet* set, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

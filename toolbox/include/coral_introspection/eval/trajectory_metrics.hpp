@@ -10,7 +10,7 @@
 #include "coral_introspection/eval/rio_sequence.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct TrajectoryErrors {
   int pairs = 0;                              // estimate poses matched with ground truth
@@ -35,5 +35,5 @@ bool writeTum(const std::string& path, const std::vector<StampedPose>& trajector
               std::string* error);
 bool readTum(const std::string& path, std::vector<StampedPose>* trajectory, std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

@@ -17,12 +17,12 @@
 #include "coral_introspection/eval/evaluation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct VerdictEvalConfig {
-  EvaluationConfig evaluation;   // folds, logistic regression (balanced, ridge, t_h)
-  RelativeCheckConfig relative;  // margin and flat ratio of the relative check
-  std::string validate() const;  // empty when valid
+  EvaluationConfig evaluation;          // folds, logistic regression (balanced, ridge, t_h)
+  coral::RelativeCheckConfig relative;  // margin and flat ratio of the relative check
+  std::string validate() const;         // empty when valid
 };
 
 // One train/test arrangement and its held-out opinions per test sample.
@@ -39,22 +39,22 @@ struct VerdictScenario {
 struct VerdictEvaluation {
   std::vector<std::string> datasets;  // evaluation data sets (halves for a single one)
   std::vector<VerdictScenario> scenarios;
-  LogisticModel classifier;                         // fitted on every sample (the deployable one)
-  double lodo_accuracy[3] = {0, 0, 0};              // mean balanced accuracy over LODO scenarios
-  VerdictMethod best = VerdictMethod::kClassifier;  // highest LODO accuracy
+  coral::LogisticModel classifier;      // fitted on every sample (the deployable one)
+  double lodo_accuracy[3] = {0, 0, 0};  // mean balanced accuracy over LODO scenarios
+  coral::VerdictMethod best = coral::VerdictMethod::kClassifier;  // highest LODO accuracy
 };
 
 // Method order of the arrays above: classifier, relative, both.
-extern const VerdictMethod kVerdictMethods[3];
+extern const coral::VerdictMethod kVerdictMethods[3];
 
 // Relative-check results of every sample from its stored Q values.
-std::vector<RelativeCheckResult> relativeResults(const SampleSet& set,
-                                                 const RelativeCheckConfig& cfg);
+std::vector<coral::RelativeCheckResult> relativeResults(const SampleSet& set,
+                                                        const coral::RelativeCheckConfig& cfg);
 
 // Runs every scenario and fits the deployable classifier. `set` holds "CorAl" and
 // "Relative" methods (verdictMethods()). False with *error on a bad config or set.
 bool evaluateVerdicts(const SampleSet& set, const VerdictEvalConfig& cfg, VerdictEvaluation* out,
                       std::string* error);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

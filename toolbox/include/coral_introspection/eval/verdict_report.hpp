@@ -10,7 +10,7 @@
 #include "coral_introspection/eval/verdict_evaluation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 // `header` lines go first (title, command, data, settings).
 std::string verdictMarkdown(const SampleSet& set, const VerdictEvaluation& eval,
@@ -24,7 +24,7 @@ bool writeVerdictRocPng(const std::string& path, const SampleSet& set,
 // The preset sections a training run decides: tolerance/* and classifier/* (method, the
 // fitted betas, threshold, relative margin and flat ratio), loadable into the nodelet's
 // private namespace. `comments` become leading # lines.
-std::string verdictYaml(const VerdictConfig& v, const std::vector<std::string>& comments);
+std::string verdictYaml(const coral::VerdictConfig& v, const std::vector<std::string>& comments);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

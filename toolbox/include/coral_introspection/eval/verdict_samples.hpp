@@ -16,17 +16,17 @@
 #include "coral_introspection/eval/training_set.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace eval {
 
 struct VerdictSampleConfig {
-  CoralConfig coral;             // the preset's CorAl settings
-  ToleranceConfig tolerance;     // size of the induced misalignments and of the probes
-  int probe_queries = 0;         // queries per scan of the relative check's Q values
-                                 // (RelativeCheckConfig::probe_queries; 0 = all)
-  int threads = 0;               // worker threads; 0 = every core of the machine
-  int shard_index = 0;           // this shard ...
-  int shard_count = 1;           // ... of this many (1 = the whole data set)
-  std::string validate() const;  // empty when valid
+  coral::CoralConfig coral;          // the preset's CorAl settings
+  coral::ToleranceConfig tolerance;  // size of the induced misalignments and of the probes
+  int probe_queries = 0;             // queries per scan of the relative check's Q values
+                                     // (RelativeCheckConfig::probe_queries; 0 = all)
+  int threads = 0;                   // worker threads; 0 = every core of the machine
+  int shard_index = 0;               // this shard ...
+  int shard_count = 1;               // ... of this many (1 = the whole data set)
+  std::string validate() const;      // empty when valid
 };
 
 // Group labels of the misaligned samples: offsets along x, y, z / about roll, pitch, yaw.
@@ -48,5 +48,5 @@ bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingS
                          const Progress& progress, SampleSet* set, std::string* error,
                          CoralCost* cost = nullptr);
 
-}  // namespace core
+}  // namespace eval
 }  // namespace coral_introspection

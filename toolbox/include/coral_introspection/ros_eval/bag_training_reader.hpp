@@ -10,7 +10,7 @@
 #include "coral_introspection/ros/coral_params.hpp"
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 struct BagTrainingOptions {
   std::string scan_topic = "/scan";  // PointCloud2 or polar Image (type detected per message)
@@ -19,7 +19,7 @@ struct BagTrainingOptions {
   // base -> sensor extrinsic in the bag is applied automatically.
   std::string odom_topic;
   std::string fixed_frame = "odom";  // poses T_fixed_sensor are looked up in this frame
-  NodeConfig node;                   // radar image decoding (polar_format, polar, rip)
+  ros_adapters::NodeConfig node;     // radar image decoding (polar_format, polar, rip)
   bool motion_compensation = true;   // radar images: de-skew with the pose-derived velocity
   bool with_cfear = true;            // radar images: also k-strongest points for CFEAR
   int cfear_k = 12;
@@ -44,9 +44,9 @@ std::string bagTopicType(const std::string& bag_path, const std::string& topic);
 // Returns false with *error if the bag cannot be opened or fewer than 2 scans have a pose;
 // never throws.
 bool loadBagTrainingScans(const std::string& bag_path, const BagTrainingOptions& options,
-                          const core::Progress& progress, std::vector<core::TrainingScan>* scans,
-                          core::Isometries* T_fixed_sensor, BagTrainingSummary* summary,
+                          const eval::Progress& progress, std::vector<eval::TrainingScan>* scans,
+                          coral::Isometries* T_fixed_sensor, BagTrainingSummary* summary,
                           std::string* error);
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

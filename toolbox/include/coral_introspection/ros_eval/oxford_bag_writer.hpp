@@ -6,7 +6,7 @@
 #include <string>
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 struct OxfordBagOptions {
   std::string image_topic = "/radar/polar";  // sensor_msgs/Image, mono8, raw 400 x 3779 layout
@@ -33,5 +33,5 @@ struct OxfordBagSummary {
 bool writeOxfordBag(const std::string& folder, const std::string& bag_path,
                     const OxfordBagOptions& options, OxfordBagSummary* summary, std::string* error);
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

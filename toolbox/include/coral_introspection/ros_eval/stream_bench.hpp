@@ -26,7 +26,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 struct StreamOptions {
   double rate = 10.0;          // [Hz] clouds per second of wall time
@@ -42,7 +42,7 @@ struct StreamOptions {
 class CloudStreamer {
  public:
   // world: the frame's points (they define the static scene, sensor at the origin at t = 0).
-  CloudStreamer(ros::NodeHandle& nh, const core::Points& world, const StreamOptions& options);
+  CloudStreamer(ros::NodeHandle& nh, const coral::Points& world, const StreamOptions& options);
   // Waits (wall time) until the topic has a subscriber (the nodelet subscribes lazily).
   bool waitForSubscriber(double timeout_s) const;
   // Publishes TF and cloud for sensor time t [s] (pose T(t)) stamped `stamp`.
@@ -55,7 +55,7 @@ class CloudStreamer {
 
  private:
   StreamOptions opt_;
-  core::Points world_;
+  coral::Points world_;
   std::vector<float> noise_;  // pre-drawn: fresh noise per cloud without its cost
   std::mt19937 rng_{7};
   double t_ = 0.0;
@@ -112,5 +112,5 @@ std::optional<int> nodePid(const std::string& node);
 // Resident set size of a process [MiB] (/proc/<pid>/status VmRSS), 0 when unreadable.
 double processRssMiB(int pid);
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection

@@ -14,7 +14,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace ros_adapters {
+namespace ros_eval {
 
 struct VerdictTrainingOptions {
   std::string preset;                     // config/*.yaml
@@ -35,5 +35,5 @@ struct VerdictTrainingOptions {
 // Returns a process exit code (0 ok, 1 failure, 2 bad options); messages go to `log`.
 int runVerdictTraining(const VerdictTrainingOptions& options, std::ostream& log);
 
-}  // namespace ros_adapters
+}  // namespace ros_eval
 }  // namespace coral_introspection
