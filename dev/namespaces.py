@@ -114,6 +114,8 @@ def qualify_unqualified(path, text, table, own, targets, log):
     """Prefix uses of names of the folders `targets` (not `own`) with their namespace."""
     # names the file defines itself (a lambda `auto fail = ...`, a local function): left alone
     local = set(re.findall(r'\bauto\s+(\w+)\s*=', text))
+    local |= set(re.findall(r'\b(?!return\b|else\b|case\b|throw\b|new\b|delete\b)[A-Za-z_][\w:]*'
+                            r'(?:<[^;()]*>)?[ \t*&]+(\w+)\s*(?:=[^=]|;|\{)', strip_comments(text)))
     local |= set(re.findall(r'^(?:static\s+|inline\s+)*[\w:<>,]+[\s*&]+(\w+)\s*\([^;]*$',
                             text, re.M))
     toks = tokens(text)
@@ -132,7 +134,9 @@ def qualify_unqualified(path, text, table, own, targets, log):
             continue
         if re.match(r'[A-Za-z_]', prev) and prev not in KEEP_BEFORE:
             continue  # a declaration: `Type name`
-        if prev in ('*', '&', '&&', '>') and nxt in (';', '=', ',', ')', '{', '[', '('):
+        if prev in ('*', '&', '&&', '>') and nxt == '(' and val[0].isupper():
+            pass  # `x * Vec3(...)`: a type constructed in an expression
+        elif prev in ('*', '&', '&&', '>') and nxt in (';', '=', ',', ')', '{', '[', '('):
             # `Type* name;` `Type& name(` ... a declaration, or an expression: say so
             log.append('SKIPPED %s:%d: %s%s (after %r): check' % (
                 path, text.count('\n', 0, pos) + 1, val, '', prev))

@@ -7,7 +7,7 @@ namespace eval {
 
 namespace {
 coral::Vec3 fromPolar(double r, double az, double el) {
-  return r * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  return r * coral::Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
 }
 }  // namespace
 

@@ -66,9 +66,9 @@ StampedPose simulatedPose(const RioSimConfig& c, double t) {
     // Loops in a 4 x 3 m area at hand height, one net left turn plus wiggles, +-15 deg
     // roll / pitch; env vanishes (with its derivatives) at rest.
     const double env = std::pow(std::sin(M_PI * u), 2);
-    p.p = coral::Vec3(0, 0, 1.2) + env * Vec3(2.0 * std::sin(tau * 3 * u),
-                                              1.5 * std::sin(tau * 2 * u),
-                                              0.2 * std::sin(tau * 5 * u));
+    p.p = coral::Vec3(0, 0, 1.2) + env * coral::Vec3(2.0 * std::sin(tau * 3 * u),
+                                                     1.5 * std::sin(tau * 2 * u),
+                                                     0.2 * std::sin(tau * 5 * u));
     p.q = rpy(env * 0.25 * std::sin(tau * 3 * u + 1.0), env * 0.2 * std::sin(tau * 5 * u + 2.0),
               tau * u + env * 0.8 * std::sin(tau * 6 * u));
   } else {
@@ -224,8 +224,8 @@ RioSequence simulateRio(const RioSimConfig& c) {
       const double r = p.norm(), az = std::atan2(p.y(), p.x()), el = std::asin(p.z() / r);
       const double rn = r + pn.sigma_range * N(rng), azn = az + pn.sigma_azimuth * N(rng),
                    eln = el + pn.sigma_elevation * N(rng);
-      f.points.push_back(
-          rn * Vec3(std::cos(eln) * std::cos(azn), std::cos(eln) * std::sin(azn), std::sin(eln)));
+      f.points.push_back(rn * coral::Vec3(std::cos(eln) * std::cos(azn),
+                                          std::cos(eln) * std::sin(azn), std::sin(eln)));
       f.radial_velocity.push_back(-p.dot(v_radar) / r + extra_vr + c.sigma_doppler * N(rng));
       f.intensity.push_back(10.0);
     };
@@ -236,7 +236,8 @@ RioSequence simulateRio(const RioSimConfig& c) {
       const double az = c.half_fov_azimuth * (2 * U(rng) - 1);
       const double el = c.half_fov_elevation * (2 * U(rng) - 1);
       const double speed = (0.5 + 2.0 * U(rng)) * (U(rng) < 0.5 ? -1 : 1);
-      emit(r * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)), speed);
+      emit(r * coral::Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)),
+           speed);
     }
     seq.radar.push_back(std::move(f));
     seq.ground_truth.push_back(kin.pose);

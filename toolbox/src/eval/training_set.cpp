@@ -79,8 +79,8 @@ std::vector<std::vector<double>> computeFeatures(const TrainingScan& a, const Tr
   std::vector<std::vector<double>> f;
   f.push_back(mean.valid ? std::vector<double>{mean.h_joint, mean.h_sep}
                          : std::vector<double>{nan, nan});
-  f.push_back(coral::median.valid ? std::vector<double>{coral::median.h_joint, coral::median.h_sep}
-                                  : std::vector<double>{nan, nan});
+  f.push_back(median.valid ? std::vector<double>{median.h_joint, median.h_sep}
+                           : std::vector<double>{nan, nan});
   f.push_back({mean.num_points_a + mean.num_points_b > 0 ? mean.mme : nan});
   f.push_back({ndt.valid ? ndt.score : nan});
   f.push_back(ndt.valid ? std::vector<double>{ndt.score, ndt.entropy}
