@@ -22,13 +22,20 @@ RULES = []
 names = '|'.join(CORAL_ONLY)
 RULES.append((re.compile(r'(?<![\w])ros/(' + names + r')\.(hpp|cpp)\b'), r'ros/coral_\1.\2'))
 # src/{eval,ros_eval,tools} -> toolbox/src/...; include/coral_introspection/{eval,ros_eval}
-RULES.append((re.compile(r'(?<!toolbox/)(?<![\w])src/(eval|ros_eval|tools)\b(?!_)'),
+RULES.append((re.compile(r'(?<!toolbox/)(?<!CMAKE_CURRENT_SOURCE_DIR\}/)(?<![\w])src/(eval|ros_eval|tools)\b(?!_)'),
               r'toolbox/src/\1'))
 RULES.append((re.compile(r'(?<!toolbox/)(?<![\w<"])include/coral_introspection/(eval|ros_eval)\b'),
               r'toolbox/include/coral_introspection/\1'))
 for d, files in SCRIPTS.items():
     alt = '|'.join(re.escape(f) for f in files)
     RULES.append((re.compile(r'(?<![\w])scripts/(' + alt + r')\b'), r'scripts/' + d + r'/\1'))
+
+# In the moved scripts: their siblings env.sh and ros_session.sh and the repository root.
+SCRIPT_DIR_RULES = [
+    (re.compile(r'(dirname "\$\{BASH_SOURCE\[0\]\}"\)/)(env\.sh|ros_session\.sh)'), r'\1../\2'),
+    (re.compile(r'(dirname "\$\{BASH_SOURCE\[0\]\}"\)/)\.\.(?=")'), r'\1../..'),
+    (re.compile(r'source=(env\.sh|ros_session\.sh)\b'), r'source=../\1'),
+]
 
 SKIP_EXT = ('.png', '.pdf', '.bag', '.bz2', '.gz', '.csv')
 
@@ -46,6 +53,9 @@ def main():
         new = text
         for rx, rep in RULES:
             new = rx.sub(rep, new)
+        if re.match(r'scripts/(ci|bench|experiments)/', path):  # one folder deeper
+            for rx, rep in SCRIPT_DIR_RULES:
+                new = rx.sub(rep, new)
         if new != text:
             with open(path, 'w', encoding='utf-8') as f:
                 f.write(new)
