@@ -218,6 +218,13 @@ def rewrite_cpp(path, text, table, log):
                           count=1, flags=re.M)
         elif not re.search(r'using namespace coral_introspection::ros_eval;', text):
             log.append('ALIAS? %s uses ros_eval:: without alias' % path)
+    # an alias of ros_adapters that nothing uses any more (its names were all ros_eval's)
+    for alias in re.findall(r'^[ \t]*namespace (\w+) = coral_introspection::ros_adapters;', text,
+                            re.M):
+        rest = re.sub(r'^[ \t]*namespace \w+ = coral_introspection::\w+;\n', '', text, flags=re.M)
+        if not re.search(r'(?<![\w:])' + alias + r'::', strip_comments(rest)):
+            text = re.sub(r'^[ \t]*namespace ' + alias + r' = coral_introspection::ros_adapters;\n',
+                          '', text, flags=re.M)
     # 5. unqualified cross-folder names
     if folder == 'radar':
         text = qualify_unqualified(path, text, table, folder, {'coral'}, log)

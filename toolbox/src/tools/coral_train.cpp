@@ -19,7 +19,6 @@
 using namespace coral_introspection::coral;
 using namespace coral_introspection::radar;
 using namespace coral_introspection::eval;
-namespace ros_adapters = coral_introspection::ros_adapters;
 namespace ros_eval = coral_introspection::ros_eval;
 
 namespace {

@@ -10,7 +10,6 @@
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
-namespace ra = coral_introspection::ros_adapters;
 namespace ros_eval = coral_introspection::ros_eval;
 namespace eval = coral_introspection::eval;
 
