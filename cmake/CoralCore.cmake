@@ -1,8 +1,8 @@
-# The ROS-free libraries, one per concern. Included by the catkin build and by the plain
-# CMake core-only build (-DCORAL_CORE_ONLY=ON), so none of them ever needs ROS.
-# Dependencies point one way only (DESIGN.md):
-#   online -> radar -> coral        eval -> radar -> coral        (eval: tools and tests only)
-#   rio -> radar -> coral           eval -> rio
+# The ROS-free runtime libraries, one per concern. Included by the catkin build and by the
+# plain CMake core-only build (-DCORAL_CORE_ONLY=ON), so none of them ever needs ROS. The
+# evaluation toolbox (eval: tools and tests only) is toolbox/CMakeLists.txt.
+# Dependencies point one way only (README.md, Architecture):
+#   online -> radar -> coral        eval -> rio -> radar -> coral
 #   rio -> config                   (config: the parameter tree; ros links it too)
 find_package(Eigen3 REQUIRED)
 find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
@@ -18,14 +18,19 @@ find_package(Threads REQUIRED)  # CoralConfig::threads (std::thread)
 
 set(CORAL_WARNINGS -Wall -Wextra)
 
-# coral_add_library(<name> <dir> DEPS <targets...>): a static, position-independent library
-# from src/<dir>/*.cpp (linked into the nodelet plugin, hence PIC).
+# coral_add_library(<name> <dir> [ROOT <folder>] DEPS <targets...>): a static,
+# position-independent library from <folder>/src/<dir>/*.cpp (folder: the source tree, or
+# toolbox) with <folder>/include (linked into the nodelet plugin, hence PIC).
 function(coral_add_library name dir)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
-  file(GLOB srcs CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${dir}/*.cpp)
+  cmake_parse_arguments(ARG "" "ROOT" "DEPS" ${ARGN})
+  if(NOT ARG_ROOT)
+    set(ARG_ROOT ${PROJECT_SOURCE_DIR})
+  endif()
+  file(GLOB srcs CONFIGURE_DEPENDS ${ARG_ROOT}/src/${dir}/*.cpp)
   add_library(${name} STATIC ${srcs})
   set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
-  target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>)
+  target_include_directories(${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+                                            $<BUILD_INTERFACE:${ARG_ROOT}/include>)
   target_link_libraries(${name} PUBLIC ${ARG_DEPS})
   target_compile_options(${name} PRIVATE ${CORAL_WARNINGS})
 endfunction()
@@ -44,15 +49,9 @@ target_include_directories(coral_introspection_coral SYSTEM PUBLIC ${EIGEN3_INCL
 coral_add_library(coral_introspection_radar radar DEPS coral_introspection_coral ${OpenCV_LIBS})
 target_include_directories(coral_introspection_radar SYSTEM PUBLIC ${OpenCV_INCLUDE_DIRS})
 coral_add_library(coral_introspection_online online DEPS coral_introspection_radar)
-find_package(BZip2 REQUIRED)  # CARMEN .clf.bz2 logs (eval/carmen_log)
 coral_add_library(coral_introspection_rio rio DEPS coral_introspection_radar
                   coral_introspection_config ${CORAL_CERES_LIBRARY} ${CORAL_GLOG_LIBRARY})
 target_include_directories(coral_introspection_rio SYSTEM PUBLIC ${CERES_INCLUDE_DIRS})
-# Threads: coral_train computes samples on every core.
-coral_add_library(coral_introspection_eval eval DEPS coral_introspection_rio ${PCL_LIBRARIES}
-                  BZip2::BZip2 Threads::Threads)
-# PCL's PCD reader for eval/cloud_io (tools and tests only; the nodelet does not link it).
-target_include_directories(coral_introspection_eval SYSTEM PUBLIC ${PCL_INCLUDE_DIRS})
 
 set(CORAL_CORE_LIBRARIES coral_introspection_config coral_introspection_coral
     coral_introspection_radar coral_introspection_online coral_introspection_rio)

@@ -1,5 +1,5 @@
 # libFuzzer harnesses test/fuzz/fuzz_<name>.cpp -> executables fuzz_<name> (clang only),
-# enabled with -DCORAL_FUZZ=ON. scripts/fuzz.sh builds them with the sanitizers and
+# enabled with -DCORAL_FUZZ=ON. scripts/ci/fuzz.sh builds them with the sanitizers and
 # -fsanitize=fuzzer-no-link in CMAKE_CXX_FLAGS (coverage of the libraries) and runs them.
 # fuzz_cloud_conversion needs the ROS adapters, so it is skipped in the core-only build.
 file(GLOB CORAL_FUZZERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/test/fuzz/fuzz_*.cpp)

@@ -5,7 +5,7 @@
 set -euo pipefail
 
 PKGS=(
-  # toolchain; clang-format 14 for scripts/check_format.sh
+  # toolchain; clang-format 14 for scripts/ci/check_format.sh
   build-essential cmake pkg-config libgtest-dev libeigen3-dev clang-format-14
   # ROS 1 from Debian (Noetic-era, installs into /usr)
   ros-base-dev catkin ros-message-generation ros-message-runtime
@@ -24,7 +24,7 @@ PKGS=(
   libyaml-cpp-dev  # coral_check reads presets
   librostest-dev python3-rostest python3-rosunit python3-rosparam
   python3-numpy
-  # sanitizer build and libFuzzer harnesses (scripts/test_sanitizers.sh, scripts/fuzz.sh)
+  # sanitizer build and libFuzzer harnesses (scripts/ci/test_sanitizers.sh, scripts/ci/fuzz.sh)
   clang libclang-rt-14-dev llvm-14
   # tools: CARMEN .clf.bz2 laser logs (eval)
   libbz2-dev

@@ -1,7 +1,10 @@
 # shellcheck shell=bash source-path=SCRIPTDIR
-# Sourced by the soak scripts (soak_oxford.sh, soak_rio.sh): the built workspace, an own ROS
-# master, background processes that are stopped (and a temporary directory that is removed)
-# when the sourcing script exits.
+# Sourced by the scripts that start their own ROS master from the built workspace
+# (bench/stream_bench.sh, bench/soak_oxford.sh, bench/soak_rio.sh): the built workspace, an own
+# ROS master, background processes that are stopped (and a temporary directory that is
+# removed) when the sourcing script exits. Not used by demo.sh (roslaunch in the foreground,
+# stopped with SIGINT once the demo wrote its result), ci/check_install.sh (the install space
+# alone, no devel space) and experiments/rviz_screenshot.sh (SIGINT to roslaunch, Xvfb).
 #   source "$(dirname "${BASH_SOURCE[0]}")/ros_session.sh"
 #   session_roscore PORT          # master on PORT (refused if one answers there already)
 #   session_bg CMD ARGS...        # CMD in the background, output discarded, stopped on exit

@@ -5,7 +5,7 @@
 #include <cmath>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 std::string ClassifierConfig::validate() const {
   return Problems()
@@ -33,5 +33,5 @@ Verdict classify(const ClassifierConfig& cfg, double x1, double x2) {
   return v;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -8,7 +8,7 @@
 #include "coral_introspection/coral/neighbour_grid.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 
@@ -88,8 +88,8 @@ double weakestDirection(const std::vector<Shared>& pts, int dim, double k) {
       for (int j = 0; j < 3; ++j) planar(i, j) = info(idx[i], idx[j]);
     return std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(planar).eigenvalues()(0));
   }
-  return std::max(0.0,
-                  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(info).eigenvalues()(0));
+  return std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>>(info).eigenvalues()(0));
 }
 
 }  // namespace
@@ -114,5 +114,5 @@ ConstraintResult registrationConstraint(const Points& a, const Points& b_in_a,
   return res;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -19,7 +19,7 @@
 #include "coral_introspection/coral/voxel_filter.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 std::string CoralConfig::validate() const {
   // Radii in [0.01, 10] m (also the dynamic_reconfigure range of coral_radius, cfg/Coral.cfg):
@@ -379,5 +379,5 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   return res;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -8,7 +8,7 @@
 #include "coral_introspection/coral/neighbour_grid.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 namespace detail {
 // Internal linkage for the per-point helpers, as when they lived in coral.cpp: the compiler
 // then inlines them into the scoring loops the same way. The neighbour kernel itself is in
@@ -54,5 +54,5 @@ std::vector<uint32_t> selectQueries(const NeighbourGrid& grid, const CoralConfig
 double queryCellSize(const CoralConfig& cfg);
 
 }  // namespace detail
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -9,7 +9,7 @@
 #include "coral_introspection/coral/parallel.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 
@@ -212,5 +212,5 @@ const Points& CoralPair::points(int side) const {
 
 const Vec3& CoralPair::origin(int side) const { return impl_->origin[side == 0 ? 0 : 1]; }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

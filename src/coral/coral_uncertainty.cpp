@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/point_filter.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 std::string UncertainCoralConfig::validate() const {
   std::string e = base.validate();
@@ -112,5 +112,5 @@ CoralResult computeCoralUncertain(const Scan& a_in, const Scan& b_in,
   return res;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -6,7 +6,7 @@
 #include <limits>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 constexpr double kTwoPiE = 2.0 * M_PI * M_E;
@@ -73,5 +73,5 @@ bool entropyOfPoints(const Points& pts, int dim, double epsilon, double* h) {
   return differentialEntropy(m.covariance(), dim, epsilon, h);
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 std::string FreeSpaceConfig::validate() const {
   return Problems()
@@ -207,5 +207,5 @@ FreeSpaceResult freeSpaceConflict(const Points& a, const Vec3& origin_a, const P
   return out;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -7,7 +7,7 @@
 #include <string>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 std::string LogisticRegressionConfig::validate() const {
   // The threshold is copied into the deployed ClassifierConfig: the same range applies.
@@ -170,5 +170,5 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& lab
   return true;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -6,7 +6,7 @@
 #include <numeric>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 double accuracy(const std::vector<double>& scores, const std::vector<int>& labels, double threshold,
                 bool balanced) {
@@ -69,5 +69,5 @@ std::vector<RocPoint> rocCurve(const std::vector<double>& scores, const std::vec
   return roc;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

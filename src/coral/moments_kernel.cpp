@@ -10,7 +10,7 @@
 #endif
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 
@@ -298,5 +298,5 @@ template std::size_t momentsNear<2>(const NeighbourGrid&, const Vec3&, double, M
 template std::size_t momentsNear<3>(const NeighbourGrid&, const Vec3&, double, MomentsN<3>*,
                                     MomentsN<3>*);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

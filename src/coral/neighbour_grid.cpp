@@ -3,7 +3,7 @@
 #include <algorithm>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 NeighbourGrid::NeighbourGrid(const Points& a, const Points& b, double cell_size, int dim)
     : dim_(dim), cell_(cell_size), inv_cell_(1.0 / cell_size) {
@@ -136,5 +136,5 @@ void NeighbourGrid::neighbourSpans(std::size_t c, Span* a, int* na, Span* b, int
       for (uint64_t dz = 0; dz < 3; ++dz) add(findNear(k0 + dx + dy * kY + dz * kZ));
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

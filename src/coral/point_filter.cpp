@@ -6,7 +6,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 
@@ -112,5 +112,5 @@ std::size_t mergeCoincident(const Points& in, double tolerance, int dim, Points*
   return merged;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

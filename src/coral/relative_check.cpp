@@ -6,7 +6,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 std::string RelativeCheckConfig::validate() const {
   return Problems()
@@ -102,5 +102,5 @@ RelativeCheckResult relativeCheck(const CoralPair& pair, const Eigen::Isometry3d
   return r;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -5,7 +5,7 @@
 #include <limits>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 bool hasNaN(const std::vector<double>& v) {
@@ -33,5 +33,5 @@ double quantile(std::vector<double> v, double q) {
   return v[k];
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

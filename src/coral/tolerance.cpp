@@ -5,7 +5,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 ToleranceConfig ToleranceConfig::lidar3d() { return ToleranceConfig(); }
 
@@ -80,5 +80,5 @@ std::vector<ToleranceOffset> toleranceOffsets(const ToleranceConfig& tol, int di
   return out;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -3,7 +3,7 @@
 #include <cmath>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src) {
   Scan out;
@@ -25,5 +25,5 @@ Eigen::Isometry3d se2(double x, double y, double yaw) {
   return T;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -7,7 +7,7 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 const char* verdictMethodName(VerdictMethod m) {
   switch (m) {
@@ -209,5 +209,5 @@ std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::str
   return s.str();
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -6,7 +6,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 namespace {
 
@@ -112,5 +112,5 @@ Points voxelFilter(const Points& in, double leaf, int dim) {
   return out;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -4,8 +4,8 @@
 // injected errors were flagged and how many clean pairs were falsely flagged, then exits.
 //
 // Sources (~mode):
-//   lidar_3d / lidar_2d: a simulated drive through core::SyntheticScene::structuredYard()
-//     (core::simulateScan, 32 rings or one ring), PointCloud2 on `scan`, frame `lidar`.
+//   lidar_3d / lidar_2d: a simulated drive through eval::SyntheticScene::structuredYard()
+//     (eval::simulateScan, 32 rings or one ring), PointCloud2 on `scan`, frame `lidar`.
 //   oxford: real radar. The Oxford Radar RobotCar folder ~oxford_folder is converted with
 //     writeOxfordBag (what the oxford_to_bag tool runs), or an existing ~bag is used; its
 //     /radar/polar images are replayed on `polar_image` with its ground-truth TF.
@@ -52,11 +52,13 @@
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
-namespace core = coral_introspection::core;
+namespace coral = coral_introspection::coral;
+namespace eval = coral_introspection::eval;
 namespace ros_adapters = coral_introspection::ros_adapters;
+namespace ros_eval = coral_introspection::ros_eval;
 using coral_introspection::AlignmentQuality;
 using Poses = std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>>;
-using Offsets = std::vector<core::Vec3, Eigen::aligned_allocator<core::Vec3>>;
+using Offsets = std::vector<coral::Vec3, Eigen::aligned_allocator<coral::Vec3>>;
 
 namespace {
 
@@ -178,9 +180,9 @@ struct Sequence {
 // Simulated drive: gently weaving along the yard's long axis, the sensor 1.5 m above the
 // floor, heading along the path tangent.
 Sequence simulateSequence(const DemoConfig& c) {
-  core::LidarModel model;
+  eval::LidarModel model;
   if (c.mode == "lidar_2d") model.rings = 1;
-  const core::SyntheticScene scene = core::SyntheticScene::structuredYard();
+  const eval::SyntheticScene scene = eval::SyntheticScene::structuredYard();
   std::mt19937 rng(static_cast<unsigned>(c.seed));
   Sequence seq;
   seq.frame = c.sensor_frame;
@@ -189,11 +191,11 @@ Sequence simulateSequence(const DemoConfig& c) {
   for (int i = 0; i < c.num_scans; ++i) {
     const double s = i * c.step_length, w = 2.0 * M_PI / 20.0;
     const Eigen::Isometry3d T =
-        core::se2(-10.0 + s, std::sin(w * s), std::atan(w * std::cos(w * s)));
+        coral::se2(-10.0 + s, std::sin(w * s), std::atan(w * std::cos(w * s)));
     seq.T_true.push_back(T);
     seq.times.push_back(i / c.rate);
     seq.clouds.push_back(
-        ros_adapters::pointsToCloud(core::simulateScan(scene, T, model, rng), header));
+        ros_adapters::pointsToCloud(eval::simulateScan(scene, T, model, rng), header));
   }
   return seq;
 }
@@ -203,10 +205,10 @@ bool readOxfordBag(const DemoConfig& c, Sequence* seq, std::string* error) {
   std::string path = c.bag;
   if (path.empty()) {
     path = "/tmp/coral_sequence_demo_" + std::to_string(getpid()) + ".bag";
-    ros_adapters::OxfordBagOptions opt;
+    ros_eval::OxfordBagOptions opt;
     opt.image_topic = c.image_topic;
-    ros_adapters::OxfordBagSummary summary;
-    if (!ros_adapters::writeOxfordBag(c.oxford_folder, path, opt, &summary, error)) return false;
+    ros_eval::OxfordBagSummary summary;
+    if (!ros_eval::writeOxfordBag(c.oxford_folder, path, opt, &summary, error)) return false;
     std::printf("[coral_sequence_demo] converted %s -> %s (%zu images, %zu TF)\n",
                 c.oxford_folder.c_str(), path.c_str(), summary.images, summary.transforms);
   }
@@ -246,13 +248,13 @@ bool readOxfordBag(const DemoConfig& c, Sequence* seq, std::string* error) {
 // Fixed-frame odometry error E_i (translation) of every scan.
 Offsets errorOffsets(const DemoConfig& c, const Poses& T_true) {
   const int n = static_cast<int>(T_true.size());
-  Offsets e(n, core::Vec3::Zero());
-  auto lateral = [&](int i) { return core::Vec3(T_true[i].linear() * core::Vec3::UnitY()); };
+  Offsets e(n, coral::Vec3::Zero());
+  auto lateral = [&](int i) { return coral::Vec3(T_true[i].linear() * coral::Vec3::UnitY()); };
   if (c.error_pattern == "steps" || c.error_pattern == "both") {
     double sign = 1.0;
     for (int k : c.step_scans) {
       if (k < 1 || k >= n) continue;
-      const core::Vec3 jump = sign * c.error_magnitude * lateral(k);
+      const coral::Vec3 jump = sign * c.error_magnitude * lateral(k);
       for (int i = k; i < n; ++i) e[i] += jump;
       sign = -sign;
     }

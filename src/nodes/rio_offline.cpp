@@ -82,7 +82,7 @@ struct Span {
 };
 
 // After the run: why its trajectory is not one ("" when it is).
-std::string judgeRun(const Span& imu, const Span& radar, const core::RioRun& run,
+std::string judgeRun(const Span& imu, const Span& radar, const eval::RioRun& run,
                      const std::string& last_input_error) {
   const std::string why = last_input_error.empty() ? "" : " (last: " + last_input_error + ")";
   if (imu.n == 0) return "no usable IMU sample" + why;
@@ -121,16 +121,16 @@ int refuse(const std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  core::ToolArgs args;
+  eval::ToolArgs args;
   if (const auto exit =
-          core::readCommandLine("rio_offline", kUsage, argc, argv,
+          eval::readCommandLine("rio_offline", kUsage, argc, argv,
                                 {"--bag", "--config", "--output", "--report", "--set"}, {}, &args))
     return *exit;
   const std::string bag_path = args.get("--bag"), config = args.get("--config"),
                     output = args.get("--output"), report = args.get("--report");
   const std::vector<std::string> overrides = args.all("--set");
   if (bag_path.empty() || config.empty() || output.empty())
-    return core::toolError("rio_offline", "--bag, --config and --output are required", kUsage);
+    return eval::toolError("rio_offline", "--bag, --config and --output are required", kUsage);
   config::ParamTree tree;
   std::string err;
   if (!config::loadYamlFile(config, &tree, &err)) return refuse("invalid config: " + err);
@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
 
   rio::Estimator est(cfg);
   ros_adapters::RioInput input(in_cfg);
-  core::RioRun run;
+  eval::RioRun run;
   Span imu_span, radar_span;
   // Newest IMU stamp minus the frame time when a frame completes: the radar's latency on a
   // common clock (TI bag: 0.12 s); far from any latency it shows a clock offset, which the
@@ -230,16 +230,16 @@ int main(int argc, char** argv) {
               << c.bad_baro + ic.bad_baro << "\n";
   if (!arrival_lag.empty())
     std::cout << "radar frame time vs newest IMU stamp at arrival: median "
-              << core::quantile(arrival_lag, 0.5)  // a measured lag (upper middle)
+              << coral::quantile(arrival_lag, 0.5)  // a measured lag (upper middle)
               << " s (radar latency; far from it: a clock offset)\n";
   if (refusal.empty()) refusal = judgeRun(imu_span, radar_span, run, last_input_error);
   if (!refusal.empty()) return refuse(refusal);
-  if (!core::writeTum(output, run.trajectory(), &err) ||
+  if (!eval::writeTum(output, run.trajectory(), &err) ||
       (!report.empty() && !run.writeReports(report, &err))) {
     std::cerr << "rio_offline: " << err << "\n";
     return 1;
   }
-  const core::LoopError e = core::loopError(run.trajectory());
+  const eval::LoopError e = eval::loopError(run.trajectory());
   std::cout << "loop end-point error: horizontal " << e.horizontal << " m, vertical " << e.vertical
             << " m, yaw " << e.yaw_deg << " deg\n";
   return 0;

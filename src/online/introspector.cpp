@@ -8,7 +8,7 @@ namespace coral_introspection {
 namespace online {
 
 namespace {
-std::string noVerdictReason(const core::CoralResult& r, const core::CoralConfig& cfg) {
+std::string noVerdictReason(const coral::CoralResult& r, const coral::CoralConfig& cfg) {
   std::ostringstream s;
   if (r.num_points_a == 0 || r.num_points_b == 0)
     s << "a scan has no finite point (" << r.num_points_a << " and " << r.num_points_b << ")";
@@ -29,19 +29,19 @@ std::string noVerdictReason(const core::CoralResult& r, const core::CoralConfig&
 }
 }  // namespace
 
-PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
+PairJudgement judgePair(coral::Scan ref, const coral::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
                         const IntrospectorConfig& cfg, bool per_point, bool keep_scans) {
   PairJudgement j;
-  ref.origin = core::Vec3::Zero();
-  core::CoralConfig cc = cfg.coral;
+  ref.origin = coral::Vec3::Zero();
+  coral::CoralConfig cc = cfg.coral;
   cc.per_point = per_point;
   // The one verdict function (coral/verdict.hpp), as coral_train evaluates it: classifier
   // (Eq. 9-10), relative check at the tolerance, or both, as classifier/method says.
-  j.prepared = core::prepareVerdictPair(ref, cur, cc, cfg.verdict);
-  j.verdict = core::judgeAlignment(*j.prepared, T_ref_cur, cfg.verdict);
+  j.prepared = coral::prepareVerdictPair(ref, cur, cc, cfg.verdict);
+  j.verdict = coral::judgeAlignment(*j.prepared, T_ref_cur, cfg.verdict);
   if (keep_scans) {
     j.ref = std::move(ref);
-    j.cur = core::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
+    j.cur = coral::transformScan(cur, T_ref_cur);  // origin = cur's sensor (dynamic radius)
   }
   if (!j.verdict.coral.valid)
     j.reason = noVerdictReason(j.verdict.coral, cfg.coral);
@@ -67,10 +67,11 @@ bool Introspector::setConfig(const IntrospectorConfig& cfg, std::string* error) 
     if (error) *error = e;
     return false;
   }
-  if (cfg.deskew.window != cfg_.deskew.window) velocity_ = core::VelocityHistory(cfg.deskew.window);
+  if (cfg.deskew.window != cfg_.deskew.window)
+    velocity_ = radar::VelocityHistory(cfg.deskew.window);
   // Samples describe CorAl's features at one radius, dimension, floor and tolerance: other
   // settings start the calibration afresh.
-  const core::CoralConfig &o = cfg_.coral, &n = cfg.coral;
+  const coral::CoralConfig &o = cfg_.coral, &n = cfg.coral;
   if (o.radius != n.radius || o.dimension != n.dimension || o.epsilon != n.epsilon ||
       cfg_.verdict.tolerance.translation != cfg.verdict.tolerance.translation ||
       cfg_.verdict.tolerance.rotation_deg != cfg.verdict.tolerance.rotation_deg) {
@@ -124,11 +125,11 @@ Report Introspector::process(ScanInput in, const ProcessOptions& options) {
   // The one de-skew policy (radar/deskew.hpp), exactly as deskewVelocities() in training.
   if (in.is_radar && cfg_.deskew.enabled) {
     if (have_velocity) {
-      const core::Twist v = velocity_.deskewVelocity();
-      core::compensateMotion(v, in.stamp, &in.features);
+      const radar::Twist v = velocity_.deskewVelocity();
+      radar::compensateMotion(v, in.stamp, &in.features);
       rep.deskewed = true;
       if (reference_ && reference_->needs_deskew) {  // first scan of the sequence
-        core::compensateMotion(v, reference_->stamp, &reference_->features);
+        radar::compensateMotion(v, reference_->stamp, &reference_->features);
         reference_->needs_deskew = false;
       }
     } else {
@@ -174,7 +175,7 @@ Report Introspector::process(ScanInput in, const ProcessOptions& options) {
 
 void Introspector::judge(Held& cur, const ProcessOptions& options, Report* rep) {
   Held& ref = *reference_;
-  core::Scan a, b;
+  coral::Scan a, b;
   a.points = std::move(ref.features.points);  // ref is replaced by cur afterwards
   b.points = cur.features.points;
   rep->judged = true;
@@ -221,16 +222,16 @@ void Introspector::checkDoppler(const ScanInput& in, Report* rep) {
   DopplerReport d;
   d.velocity_odometry = velocity_.lastTwist().linear;
   d.num_points = in.radial_velocity.size();
-  core::Scan s;
-  const core::Covariances* cov = nullptr;
+  coral::Scan s;
+  const coral::Covariances* cov = nullptr;
   if (in.covariances.size() == in.features.points.size()) {
     cov = &in.covariances;
   } else if (cfg_.doppler.point_covariances) {
     s.points = in.features.points;  // sensor frame, sensor at the origin
-    if (core::attachCovariances(s, cfg_.doppler.noise, 3, nullptr)) cov = &s.covariances;
+    if (radar::attachCovariances(s, cfg_.doppler.noise, 3, nullptr)) cov = &s.covariances;
   }
-  d.result = core::checkVelocityConsistency(in.features.points, in.radial_velocity,
-                                            d.velocity_odometry, cfg_.doppler.check, cov);
+  d.result = radar::checkVelocityConsistency(in.features.points, in.radial_velocity,
+                                             d.velocity_odometry, cfg_.doppler.check, cov);
   ++counters_.doppler_checks;
   if (d.result.valid && !d.result.consistent) ++counters_.doppler_inconsistent;
   rep->doppler = std::move(d);

@@ -17,7 +17,7 @@ std::string PairingConfig::validate() const {
   return e.str();
 }
 
-PairAction ScanPairing::offer(double stamp, const core::Vec3& position) {
+PairAction ScanPairing::offer(double stamp, const coral::Vec3& position) {
   PairAction a = PairAction::kPair;
   if (!has_reference_) {
     a = PairAction::kFirst;

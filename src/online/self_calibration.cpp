@@ -14,7 +14,7 @@ namespace coral_introspection {
 namespace online {
 
 std::string SelfCalibrationConfig::validate() const {
-  return core::Problems()
+  return coral::Problems()
       .require(fraction_of_pairs > 0.0 && fraction_of_pairs <= 1.0, "fraction_of_pairs",
                "in (0, 1]", fraction_of_pairs)
       .require(max_samples >= 20 && max_samples <= 1000000, "max_samples", "in [20, 1e6]",
@@ -38,12 +38,12 @@ bool everyFraction(uint64_t n, double f) { return std::floor((n + 1) * f) > std:
 }  // namespace
 
 SelfCalibration::SelfCalibration(const SelfCalibrationConfig& cfg,
-                                 const core::ClassifierConfig& prior)
+                                 const coral::ClassifierConfig& prior)
     : cfg_(cfg), prior_(prior) {
   status_.classifier = prior;
 }
 
-void SelfCalibration::setPrior(const core::ClassifierConfig& prior) {
+void SelfCalibration::setPrior(const coral::ClassifierConfig& prior) {
   prior_ = prior;
   if (status_.refits == 0) status_.classifier = prior;
   status_.classifier.threshold = prior.threshold;  // t_h is the user's choice, not fitted
@@ -62,26 +62,26 @@ bool SelfCalibration::select() {
          ++status_.pairs_selected > 0;
 }
 
-bool SelfCalibration::addPair(const core::CoralPair& pair, const Eigen::Isometry3d& T_ref_cur,
-                              const core::CoralResult& at_pose,
-                              const core::VerdictConfig& verdict) {
+bool SelfCalibration::addPair(const coral::CoralPair& pair, const Eigen::Isometry3d& T_ref_cur,
+                              const coral::CoralResult& at_pose,
+                              const coral::VerdictConfig& verdict) {
   if (!at_pose.valid) return false;
   const auto start = std::chrono::steady_clock::now();
   tolerance_ = verdict.tolerance;
-  const std::vector<core::ToleranceOffset> offsets =
-      core::toleranceOffsets(verdict.tolerance, pair.config().dimension);
-  const std::vector<core::CoralResult> moved = core::neighbourResults(pair, T_ref_cur, offsets);
+  const std::vector<coral::ToleranceOffset> offsets =
+      coral::toleranceOffsets(verdict.tolerance, pair.config().dimension);
+  const std::vector<coral::CoralResult> moved = coral::neighbourResults(pair, T_ref_cur, offsets);
   status_.extra_evaluations += moved.size();
   std::vector<double> q;
   std::vector<CalibrationSample> negatives;
-  for (const core::CoralResult& r : moved) {
+  for (const coral::CoralResult& r : moved) {
     q.push_back(r.valid ? r.quality : std::numeric_limits<double>::quiet_NaN());
     if (r.valid) negatives.push_back({r.h_joint, r.h_sep, 0});
   }
   // Acceptance by the training-free relative check on these same evaluations: the pose is a
   // clear minimum of Q (Eq. 5) along every axis. The classifier never votes on its samples.
-  const core::RelativeCheckResult rel =
-      core::decideRelative(at_pose.quality, offsets, q, verdict.relative);
+  const coral::RelativeCheckResult rel =
+      coral::decideRelative(at_pose.quality, offsets, q, verdict.relative);
   const bool accepted = rel.valid && rel.score <= cfg_.accept_score && !negatives.empty();
   if (accepted) addAcceptedPair({at_pose.h_joint, at_pose.h_sep, 1}, negatives);
   status_.seconds +=
@@ -122,13 +122,13 @@ void SelfCalibration::refit() {
     positives += train[i]->label;
   }
   if (positives == 0 || positives == static_cast<int>(train.size())) return;  // wait for both
-  core::LogisticRegressionConfig lr;  // balanced class weights (Sec. III-F), as coral_train
+  coral::LogisticRegressionConfig lr;  // balanced class weights (Sec. III-F), as coral_train
   lr.threshold = prior_.threshold;
   lr.prior_weight = cfg_.prior_weight;
   lr.prior_beta = Eigen::Vector3d(prior_.beta0, prior_.beta1, prior_.beta2);
-  core::LogisticModel model;
+  coral::LogisticModel model;
   std::string error;
-  if (!core::fitLogisticRegression(X, y, {}, lr, &model, &error)) {
+  if (!coral::fitLogisticRegression(X, y, {}, lr, &model, &error)) {
     ++status_.refit_failures;
     status_.last_error = "refit: " + error;
     return;
@@ -137,14 +137,14 @@ void SelfCalibration::refit() {
   status_.classifier = model.toClassifierConfig();
   std::vector<double> scores;
   std::vector<int> labels;
-  const core::ClassifierConfig& k = status_.classifier;
+  const coral::ClassifierConfig& k = status_.classifier;
   for (const CalibrationSample* s : test) {
     // The logit z of Eq. 9 ranks like p but does not saturate (p rounds to 1 beyond z ~ 37,
     // which would turn a far-off classifier's ranking into ties).
     scores.push_back(k.beta0 + k.beta1 * s->h_joint + k.beta2 * s->h_sep);
     labels.push_back(s->label);
   }
-  status_.heldout_auc = core::auc(scores, labels);  // NaN until both classes are held out
+  status_.heldout_auc = coral::auc(scores, labels);  // NaN until both classes are held out
   status_.in_use = static_cast<int>(train.size()) >= cfg_.min_samples_before_use &&
                    status_.heldout_auc >= cfg_.min_auc;
   if (!cfg_.output_file.empty()) writeYaml();
@@ -162,7 +162,7 @@ void SelfCalibration::writeYaml() {
       c.str(), "Load into the nodelet's private namespace: <rosparam file=\"...\"/>"};
   const std::string tmp = cfg_.output_file + ".tmp";
   std::ofstream f(tmp);
-  f << core::classifierYaml(status_.classifier, comments, &tolerance_);
+  f << coral::classifierYaml(status_.classifier, comments, &tolerance_);
   f.close();
   if (!f || std::rename(tmp.c_str(), cfg_.output_file.c_str()) != 0)
     status_.last_error = "cannot write " + cfg_.output_file;

@@ -7,10 +7,10 @@
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 std::string DeskewConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(window >= 1 && window <= 9 && window % 2 == 1, "window", "odd, in [1, 9]", window)
       .str();
 }
@@ -30,7 +30,7 @@ Twist medianTwist(const std::deque<Twist>& twists) {
     for (std::size_t i = 0; i < twists.size(); ++i)
       v[i] = k < 3 ? twists[i].linear[k] : twists[i].angular[k - 3];
     // Per component, a measured value (the upper middle one for an even count).
-    (k < 3 ? out.linear[k] : out.angular[k - 3]) = quantile(v, 0.5);
+    (k < 3 ? out.linear[k] : out.angular[k - 3]) = coral::quantile(v, 0.5);
   }
   return out;
 }
@@ -58,7 +58,7 @@ Twist VelocityHistory::deskewVelocity() const {
 }
 
 std::vector<std::optional<Twist>> deskewVelocities(const std::vector<double>& stamps,
-                                                   const Isometries& T_fixed_sensor,
+                                                   const coral::Isometries& T_fixed_sensor,
                                                    const DeskewConfig& cfg) {
   const std::size_t n = std::min(stamps.size(), T_fixed_sensor.size());
   std::vector<std::optional<Twist>> out(n);
@@ -76,5 +76,5 @@ std::vector<std::optional<Twist>> deskewVelocities(const std::vector<double>& st
   return out;
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

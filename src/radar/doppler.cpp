@@ -11,10 +11,10 @@
 #include "coral_introspection/radar/doppler_fit.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 std::string DopplerConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(sigma_doppler > 0.0, "sigma_doppler", "> 0 m/s", sigma_doppler)
       .require(ransac_threshold > 0.0, "ransac_threshold", "> 0 m/s", ransac_threshold)
       .require(ransac_iterations >= 1, "ransac_iterations", ">= 1", ransac_iterations)
@@ -27,9 +27,10 @@ std::string DopplerConfig::validate() const {
       .str();
 }
 
-EgoVelocityResult estimateEgoVelocity(const Points& points,
+EgoVelocityResult estimateEgoVelocity(const coral::Points& points,
                                       const std::vector<double>& radial_velocity,
-                                      const DopplerConfig& cfg, const Covariances* point_cov) {
+                                      const DopplerConfig& cfg,
+                                      const coral::Covariances* point_cov) {
   const DopplerFit fit = fitDoppler(points, radial_velocity, cfg, point_cov);
   EgoVelocityResult r;
   r.valid = fit.valid;
@@ -49,11 +50,12 @@ EgoVelocityResult estimateEgoVelocity(const Points& points,
   return r;
 }
 
-ConsistencyResult checkVelocityConsistency(const Points& points,
+ConsistencyResult checkVelocityConsistency(const coral::Points& points,
                                            const std::vector<double>& radial_velocity,
-                                           const Vec3& sensor_velocity, const DopplerConfig& cfg,
-                                           const Covariances* point_cov,
-                                           const Mat3* sensor_velocity_cov) {
+                                           const coral::Vec3& sensor_velocity,
+                                           const DopplerConfig& cfg,
+                                           const coral::Covariances* point_cov,
+                                           const coral::Mat3* sensor_velocity_cov) {
   if (!sensor_velocity.allFinite() ||
       (sensor_velocity_cov != nullptr && !sensor_velocity_cov->allFinite())) {
     ConsistencyResult c;
@@ -64,8 +66,8 @@ ConsistencyResult checkVelocityConsistency(const Points& points,
                       sensor_velocity_cov);
 }
 
-ConsistencyResult testVelocity(const DopplerFit& fit, const Vec3& sensor_velocity,
-                               const DopplerConfig& cfg, const Mat3* sensor_velocity_cov) {
+ConsistencyResult testVelocity(const DopplerFit& fit, const coral::Vec3& sensor_velocity,
+                               const DopplerConfig& cfg, const coral::Mat3* sensor_velocity_cov) {
   ConsistencyResult c;
   c.num_inliers = fit.inliers.size();
   c.velocity_doppler = fit.velocity;
@@ -139,5 +141,5 @@ double chiSquareQuantile(double p, int dof) {
   return 0.5 * (lo + hi);
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

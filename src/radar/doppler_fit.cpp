@@ -8,37 +8,37 @@
 #include "coral_introspection/coral/statistics.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 namespace {
 
 struct Obs {
   std::size_t index;  // into the input points
-  Vec3 d;             // unit bearing d_k
+  coral::Vec3 d;      // unit bearing d_k
   double range;       // |p_k|
   double m;           // d_k^T v_s expected for a static point (sign-normalised v_r)
-  Mat3 cov;           // point covariance (zero if unknown)
+  coral::Mat3 cov;    // point covariance (zero if unknown)
 };
 
-double residualVariance(const Obs& o, const Vec3& v, double sigma_doppler) {
+double residualVariance(const Obs& o, const coral::Vec3& v, double sigma_doppler) {
   return dopplerResidualVariance(o.d * o.range, v, o.cov, sigma_doppler);
 }
 
-double absResidual(const Obs& o, const Vec3& v) { return std::abs(o.d.dot(v) - o.m); }
+double absResidual(const Obs& o, const coral::Vec3& v) { return std::abs(o.d.dot(v) - o.m); }
 
 }  // namespace
 
-double dopplerResidualVariance(const Vec3& p, const Vec3& v, const Mat3& point_cov,
-                               double sigma_doppler) {
+double dopplerResidualVariance(const coral::Vec3& p, const coral::Vec3& v,
+                               const coral::Mat3& point_cov, double sigma_doppler) {
   const double r = p.norm();
-  const Vec3 d = p / r;
+  const coral::Vec3 d = p / r;
   // J = d(d^T v)/dp = v^T (I - d d^T) / |p|  (Eq. 11-12).
-  const Vec3 J = (v - d * d.dot(v)) / r;
+  const coral::Vec3 J = (v - d * d.dot(v)) / r;
   return sigma_doppler * sigma_doppler + J.dot(point_cov * J);
 }
 
-DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_velocity,
-                      const DopplerConfig& cfg, const Covariances* point_cov) {
+DopplerFit fitDoppler(const coral::Points& points, const std::vector<double>& radial_velocity,
+                      const DopplerConfig& cfg, const coral::Covariances* point_cov) {
   DopplerFit f;
   auto fail = [&f](const std::string& why) {
     f.valid = false;
@@ -56,10 +56,10 @@ DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_ve
   std::vector<Obs> obs;
   bool planar = true;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Vec3& p = points[i];
+    const coral::Vec3& p = points[i];
     const double r = p.norm();
     if (!p.allFinite() || !(r > 1e-6) || !std::isfinite(radial_velocity[i])) continue;
-    Mat3 cov = with_cov ? (*point_cov)[i] : Mat3::Zero();
+    coral::Mat3 cov = with_cov ? (*point_cov)[i] : coral::Mat3::Zero();
     if (!cov.allFinite()) cov.setZero();
     obs.push_back({i, p / r, r, sign * radial_velocity[i], cov});
     if (std::abs(p.z()) > 1e-9 * r) planar = false;
@@ -73,18 +73,18 @@ DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_ve
   // RANSAC: a minimal set of n bearings fixes v exactly; keep the largest consensus.
   std::mt19937 rng(cfg.seed);
   std::uniform_int_distribution<std::size_t> pick(0, obs.size() - 1);
-  Vec3 best_v = Vec3::Zero();
+  coral::Vec3 best_v = coral::Vec3::Zero();
   std::size_t best_count = 0;
   for (int it = 0; it < cfg.ransac_iterations; ++it) {
     Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
-    Vec3 b = Vec3::Zero();
+    coral::Vec3 b = coral::Vec3::Zero();
     std::size_t idx[3] = {pick(rng), pick(rng), pick(rng)};
     for (int k = 0; k < n; ++k) {
       A.row(k).head(n) = obs[idx[k]].d.head(n).transpose();
       b(k) = obs[idx[k]].m;
     }
     if (std::abs(A.topLeftCorner(n, n).determinant()) < 1e-3) continue;  // near-collinear
-    Vec3 v = Vec3::Zero();
+    coral::Vec3 v = coral::Vec3::Zero();
     v.head(n) = A.topLeftCorner(n, n).partialPivLu().solve(b.head(n));
     std::size_t count = 0;
     for (const Obs& o : obs) count += absResidual(o, v) < cfg.ransac_threshold;
@@ -94,7 +94,7 @@ DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_ve
 
   // Iterated WLS on the inliers, weights from the propagated covariance (Eq. 10-12)
   // evaluated at the current estimate; inliers re-selected with the refined velocity.
-  Vec3 v = best_v;
+  coral::Vec3 v = best_v;
   Eigen::MatrixXd info(n, n);
   std::vector<const Obs*> in;
   for (int iter = 0; iter < 4; ++iter) {
@@ -123,7 +123,8 @@ DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_ve
     chi2 += e * e / residualVariance(*o, v, cfg.sigma_doppler);
     f.inliers.push_back(o->index);
   }
-  f.median_residual = quantile(std::move(abs_res), 0.5);  // a measured residual (upper middle)
+  f.median_residual =
+      coral::quantile(std::move(abs_res), 0.5);  // a measured residual (upper middle)
   f.reduced_chi2 = chi2 / static_cast<double>(in.size() - n);
   f.velocity = v;
   f.covariance = info.inverse();
@@ -133,5 +134,5 @@ DopplerFit fitDoppler(const Points& points, const std::vector<double>& radial_ve
   return f;
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

@@ -3,11 +3,11 @@
 #include <cmath>
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 namespace {
-Mat3 hat(const Vec3& w) {
-  Mat3 m;
+coral::Mat3 hat(const coral::Vec3& w) {
+  coral::Mat3 m;
   m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
   return m;
 }
@@ -16,9 +16,9 @@ Mat3 hat(const Vec3& w) {
 Eigen::Isometry3d constantVelocityPose(const Twist& velocity, double dt) {
   // SE(3) exponential of dt * [v, w]: R = exp([phi]x) (Rodrigues), t = V rho with
   // V = I + (1 - cos th)/th^2 [phi]x + (th - sin th)/th^3 [phi]x^2 (series for small th).
-  const Vec3 phi = velocity.angular * dt, rho = velocity.linear * dt;
+  const coral::Vec3 phi = velocity.angular * dt, rho = velocity.linear * dt;
   const double th2 = phi.squaredNorm(), th = std::sqrt(th2);
-  const Mat3 K = hat(phi), K2 = K * K;
+  const coral::Mat3 K = hat(phi), K2 = K * K;
   double a, b, c;  // sin th / th, (1 - cos th) / th^2, (th - sin th) / th^3
   if (th < 1e-4) {
     a = 1.0 - th2 / 6.0;
@@ -30,8 +30,8 @@ Eigen::Isometry3d constantVelocityPose(const Twist& velocity, double dt) {
     c = (th - std::sin(th)) / (th2 * th);
   }
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Mat3::Identity() + a * K + b * K2;
-  T.translation() = (Mat3::Identity() + b * K + c * K2) * rho;
+  T.linear() = coral::Mat3::Identity() + a * K + b * K2;
+  T.translation() = (coral::Mat3::Identity() + b * K + c * K2) * rho;
   return T;
 }
 
@@ -41,12 +41,13 @@ Twist twistFromRelativePose(const Eigen::Isometry3d& T_prev_curr, double dt) {
   // SE(3) logarithm: phi from the rotation, rho = V^-1 t with
   // V^-1 = I - 1/2 [phi]x + (1/th^2 - (1 + cos th) / (2 th sin th)) [phi]x^2.
   const Eigen::AngleAxisd aa(T_prev_curr.rotation());
-  const Vec3 phi = aa.axis() * aa.angle();
+  const coral::Vec3 phi = aa.axis() * aa.angle();
   const double th = phi.norm();
-  const Mat3 K = hat(phi);
+  const coral::Mat3 K = hat(phi);
   const double d = th < 1e-4 ? 1.0 / 12.0 + th * th / 720.0
                              : 1.0 / (th * th) - (1.0 + std::cos(th)) / (2.0 * th * std::sin(th));
-  const Vec3 rho = (Mat3::Identity() - 0.5 * K + d * K * K) * T_prev_curr.translation();
+  const coral::Vec3 rho =
+      (coral::Mat3::Identity() - 0.5 * K + d * K * K) * T_prev_curr.translation();
   out.linear = rho / dt;
   out.angular = phi / dt;
   return out;
@@ -56,7 +57,7 @@ void compensateMotion(const Twist& velocity, double ref_stamp, RadarFeatures* fe
   if (features == nullptr) return;
   if (velocity.linear.isZero(0.0) && velocity.angular.isZero(0.0)) return;
   if (!velocity.linear.allFinite() || !velocity.angular.allFinite()) return;
-  Points& pts = features->points;
+  coral::Points& pts = features->points;
   const std::size_t n = std::min(pts.size(), features->stamps.size());
   // Points of one azimuth share a stamp: compute T_ref_t once per distinct stamp.
   double last = std::nan("");
@@ -70,5 +71,5 @@ void compensateMotion(const Twist& velocity, double ref_stamp, RadarFeatures* fe
   }
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

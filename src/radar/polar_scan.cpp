@@ -7,7 +7,7 @@
 #include <sstream>
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 namespace {
 constexpr int kOxfordRows = 400;
@@ -59,7 +59,7 @@ PolarImageConfig PolarImageConfig::mulranCir204() {
 }
 
 std::string PolarImageConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(range_resolution > 0.0 && range_resolution < 10.0, "range_resolution",
                "in (0, 10) m per bin", range_resolution)
       .require(first_data_column >= 0, "first_data_column", ">= 0", first_data_column)
@@ -73,7 +73,7 @@ std::string PolarImageConfig::validate() const {
 bool checkSweep(const PolarScan& scan, double scan_period, std::string* error) {
   const std::size_t n = scan.valid.size();
   if (scan.azimuths.size() != n || scan.stamps.size() != n)
-    return fail(error, "polar scan: azimuths/stamps/valid sizes differ");
+    return coral::fail(error, "polar scan: azimuths/stamps/valid sizes differ");
   const double max_duration = kMaxSweepPeriods * scan_period;
   int first = -1, prev = -1, num_valid = 0;
   double direction = 0.0, turned = 0.0;  // sign of the rotation, total angle [rad]
@@ -82,19 +82,20 @@ bool checkSweep(const PolarScan& scan, double scan_period, std::string* error) {
     const int row = static_cast<int>(i);
     const double t = scan.stamps[i], a = scan.azimuths[i];
     if (!std::isfinite(t) || !std::isfinite(a))
-      return fail(error, "polar scan " + rowStamp(row, t) + " has a non-finite stamp or azimuth");
+      return coral::fail(error,
+                         "polar scan " + rowStamp(row, t) + " has a non-finite stamp or azimuth");
     ++num_valid;
     if (first < 0) {
       first = prev = row;
       continue;
     }
     if (t < scan.stamps[prev])
-      return fail(error, "polar scan row stamps go backwards: " + rowStamp(row, t) + " is before " +
-                             rowStamp(prev, scan.stamps[prev]));
+      return coral::fail(error, "polar scan row stamps go backwards: " + rowStamp(row, t) +
+                                    " is before " + rowStamp(prev, scan.stamps[prev]));
     if (t - scan.stamps[first] > max_duration)
-      return fail(error, "polar scan rows span more than one sweep: " + rowStamp(row, t) +
-                             " is more than " + std::to_string(max_duration) + " s after " +
-                             rowStamp(first, scan.stamps[first]));
+      return coral::fail(error, "polar scan rows span more than one sweep: " + rowStamp(row, t) +
+                                    " is more than " + std::to_string(max_duration) + " s after " +
+                                    rowStamp(first, scan.stamps[first]));
     // Azimuth step to this row, wrapped into [-pi, pi]: its sign is the spin direction.
     const double step = std::remainder(a - scan.azimuths[prev], 2.0 * M_PI);
     if (direction == 0.0 && step != 0.0) direction = step > 0.0 ? 1.0 : -1.0;
@@ -103,12 +104,12 @@ bool checkSweep(const PolarScan& scan, double scan_period, std::string* error) {
       e << "polar scan azimuth " << (step == 0.0 ? "does not advance (stuck encoder?)" : "jumps")
         << " from row " << prev << " (" << scan.azimuths[prev] << " rad) to row " << row << " ("
         << a << " rad)";
-      return fail(error, e.str());
+      return coral::fail(error, e.str());
     }
     turned += std::abs(step);
     prev = row;
   }
-  if (num_valid == 0) return fail(error, "polar scan has no valid row");
+  if (num_valid == 0) return coral::fail(error, "polar scan has no valid row");
   // Span of the rows plus one mean step: 2 pi for a complete sweep of evenly spaced rows.
   const double coverage = num_valid > 1 ? turned * num_valid / (num_valid - 1) : 0.0;
   if (coverage < kMinCoverageTurns * 2.0 * M_PI || turned >= 2.0 * M_PI) {
@@ -116,20 +117,20 @@ bool checkSweep(const PolarScan& scan, double scan_period, std::string* error) {
     e << "polar scan azimuths cover " << coverage / (2.0 * M_PI) << " turns over " << num_valid
       << " valid rows, expected one sweep (at least " << kMinCoverageTurns
       << ", under 1 turn between the first and last row)";
-    return fail(error, e.str());
+    return coral::fail(error, e.str());
   }
   return true;
 }
 
 bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {
-  if (out == nullptr) return fail(error, "decodeOxfordImage: null output");
-  if (img.empty()) return fail(error, "Oxford radar image is empty");
+  if (out == nullptr) return coral::fail(error, "decodeOxfordImage: null output");
+  if (img.empty()) return coral::fail(error, "Oxford radar image is empty");
   if (img.type() != CV_8UC1)
-    return fail(error,
-                "Oxford radar image must be 8-bit single channel (mono8), got " + typeName(img));
+    return coral::fail(
+        error, "Oxford radar image must be 8-bit single channel (mono8), got " + typeName(img));
   if (img.rows != kOxfordRows || img.cols != kOxfordCols)
-    return fail(error, "Oxford radar image must be 400 x 3779 (rows x cols), got " +
-                           std::to_string(img.rows) + " x " + std::to_string(img.cols));
+    return coral::fail(error, "Oxford radar image must be 400 x 3779 (rows x cols), got " +
+                                  std::to_string(img.rows) + " x " + std::to_string(img.cols));
   const int n = img.rows;
   out->azimuths.assign(n, 0.0);
   out->stamps.assign(n, 0.0);
@@ -150,7 +151,7 @@ bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {
     out->valid[i] = ok ? 1 : 0;
     num_valid += ok ? 1 : 0;
   }
-  if (num_valid == 0) return fail(error, "Oxford radar image has no valid row (flag 255)");
+  if (num_valid == 0) return coral::fail(error, "Oxford radar image has no valid row (flag 255)");
   // Reference time = first valid azimuth (row 0 normally; equals the PNG name, the stamp GT and TF
   // refer to).
   int first = 0;
@@ -163,28 +164,29 @@ bool decodeOxfordImage(const cv::Mat& img, PolarScan* out, std::string* error) {
 
 bool loadOxfordScan(const std::string& png_path, PolarScan* out, std::string* error) {
   cv::Mat img = cv::imread(png_path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) return fail(error, "cannot read radar image '" + png_path + "'");
+  if (img.empty()) return coral::fail(error, "cannot read radar image '" + png_path + "'");
   std::string e;
-  if (!decodeOxfordImage(img, out, &e)) return fail(error, png_path + ": " + e);
+  if (!decodeOxfordImage(img, out, &e)) return coral::fail(error, png_path + ": " + e);
   return true;
 }
 
 bool decodePolarImage(const cv::Mat& mono8, const PolarImageConfig& cfg, double stamp,
                       PolarScan* out, std::string* error) {
-  if (out == nullptr) return fail(error, "decodePolarImage: null output");
+  if (out == nullptr) return coral::fail(error, "decodePolarImage: null output");
   const std::string bad = cfg.validate();
-  if (!bad.empty()) return fail(error, "invalid polar image config: " + bad);
-  if (mono8.empty()) return fail(error, "polar image is empty");
+  if (!bad.empty()) return coral::fail(error, "invalid polar image config: " + bad);
+  if (mono8.empty()) return coral::fail(error, "polar image is empty");
   if (mono8.type() != CV_8UC1)
-    return fail(error, "polar image must be 8-bit single channel (mono8), got " + typeName(mono8));
+    return coral::fail(error,
+                       "polar image must be 8-bit single channel (mono8), got " + typeName(mono8));
   if (cfg.num_azimuths > 0 && mono8.rows != cfg.num_azimuths)
-    return fail(error, "polar image has " + std::to_string(mono8.rows) + " rows, expected " +
-                           std::to_string(cfg.num_azimuths) + " azimuths");
+    return coral::fail(error, "polar image has " + std::to_string(mono8.rows) + " rows, expected " +
+                                  std::to_string(cfg.num_azimuths) + " azimuths");
   if (mono8.cols <= cfg.first_data_column)
-    return fail(error, "polar image has " + std::to_string(mono8.cols) +
-                           " columns, not more than first_data_column = " +
-                           std::to_string(cfg.first_data_column));
-  if (!std::isfinite(stamp)) return fail(error, "polar image stamp is not finite");
+    return coral::fail(error, "polar image has " + std::to_string(mono8.cols) +
+                                  " columns, not more than first_data_column = " +
+                                  std::to_string(cfg.first_data_column));
+  if (!std::isfinite(stamp)) return coral::fail(error, "polar image stamp is not finite");
   const int n = mono8.rows;
   const double sign = cfg.direction == AzimuthDirection::kCounterClockwise ? 1.0 : -1.0;
   out->azimuths.resize(n);
@@ -203,5 +205,5 @@ bool decodePolarImage(const cv::Mat& mono8, const PolarImageConfig& cfg, double 
   return true;
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

@@ -7,10 +7,10 @@
 #include <cmath>
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 std::string ProbabilisticAssociationConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
       .require(gate_sigma > 0.0, "gate_sigma", "> 0", gate_sigma)
       .require(max_search_radius > 0.0, "max_search_radius", "> 0 m", max_search_radius)
@@ -22,7 +22,7 @@ std::string ProbabilisticAssociationConfig::validate() const {
 
 namespace {
 template <int N>
-void floorInverse(const Mat3& sigma, double min_variance, Mat3* inv, double* logdet,
+void floorInverse(const coral::Mat3& sigma, double min_variance, coral::Mat3* inv, double* logdet,
                   double* lambda_max) {
   using MatN = Eigen::Matrix<double, N, N>;
   Eigen::SelfAdjointEigenSolver<MatN> es;
@@ -37,23 +37,23 @@ void floorInverse(const Mat3& sigma, double min_variance, Mat3* inv, double* log
 
 // Inverse (zero-padded to 3 x 3) and log-determinant of the top-left dim x dim block of
 // sigma, eigenvalues floored at min_variance.
-void regularisedInverse(const Mat3& sigma, int dim, double min_variance, Mat3* inv, double* logdet,
-                        double* lambda_max) {
+void regularisedInverse(const coral::Mat3& sigma, int dim, double min_variance, coral::Mat3* inv,
+                        double* logdet, double* lambda_max) {
   if (dim == 2)
     floorInverse<2>(sigma, min_variance, inv, logdet, lambda_max);
   else
     floorInverse<3>(sigma, min_variance, inv, logdet, lambda_max);
 }
 
-Points finiteOnly(const Points& in, std::vector<uint32_t>* original) {
-  Points out;
+coral::Points finiteOnly(const coral::Points& in, std::vector<uint32_t>* original) {
+  coral::Points out;
   for (std::size_t i = 0; i < in.size(); ++i)
     if (in[i].allFinite()) out.push_back(in[i]), original->push_back(static_cast<uint32_t>(i));
   return out;
 }
 // Shared precondition of the association entry points: a valid config and one covariance
 // per query; the reason goes to *error (when given).
-bool inputsValid(const Points& queries, const Covariances& covariances,
+bool inputsValid(const coral::Points& queries, const coral::Covariances& covariances,
                  const ProbabilisticAssociationConfig& cfg, std::string* error) {
   std::string msg = cfg.validate();
   if (msg.empty() && covariances.size() != queries.size())
@@ -65,12 +65,12 @@ bool inputsValid(const Points& queries, const Covariances& covariances,
 
 }  // namespace
 
-double gaussianLogDensity(const Vec3& x, const Vec3& mean, const Mat3& sigma, int dim,
-                          double min_variance, double* mahalanobis2) {
-  Mat3 inv;
+double gaussianLogDensity(const coral::Vec3& x, const coral::Vec3& mean, const coral::Mat3& sigma,
+                          int dim, double min_variance, double* mahalanobis2) {
+  coral::Mat3 inv;
   double logdet = 0.0, lambda_max = 0.0;
   regularisedInverse(sigma, dim, min_variance, &inv, &logdet, &lambda_max);
-  Vec3 r = x - mean;
+  coral::Vec3 r = x - mean;
   if (dim == 2) r.z() = 0.0;
   const double m2 = r.dot(inv * r);
   if (mahalanobis2) *mahalanobis2 = m2;
@@ -78,29 +78,31 @@ double gaussianLogDensity(const Vec3& x, const Vec3& mean, const Mat3& sigma, in
   return -0.5 * (dim * std::log(2.0 * M_PI) + logdet + m2);
 }
 
-ProbabilisticMatcher::ProbabilisticMatcher(const Points& landmarks,
+ProbabilisticMatcher::ProbabilisticMatcher(const coral::Points& landmarks,
                                            const ProbabilisticAssociationConfig& cfg)
     : cfg_(cfg), grid_(finiteOnly(landmarks, &original_), cfg.max_search_radius, cfg.dimension) {}
 
 template <class Fn>
-void ProbabilisticMatcher::forEachInGate(const Vec3& p, const Mat3& sigma, Fn&& fn) const {
+void ProbabilisticMatcher::forEachInGate(const coral::Vec3& p, const coral::Mat3& sigma,
+                                         Fn&& fn) const {
   if (!p.allFinite() || !sigma.allFinite()) return;
-  Mat3 inv;
+  coral::Mat3 inv;
   double logdet = 0.0, lambda_max = 0.0;
   regularisedInverse(sigma, cfg_.dimension, cfg_.min_variance, &inv, &logdet, &lambda_max);
   // Every point inside the gate ellipsoid lies within gate * sqrt(lambda_max) of p.
   const double radius = std::min(cfg_.max_search_radius, cfg_.gate_sigma * std::sqrt(lambda_max));
   const double gate2 = cfg_.gate_sigma * cfg_.gate_sigma;
   const double log_norm = -0.5 * (cfg_.dimension * std::log(2.0 * M_PI) + logdet);
-  grid_.forEachWithin(p, radius, [&](const Vec3& l, uint32_t idx) {
-    Vec3 r = l - p;
+  grid_.forEachWithin(p, radius, [&](const coral::Vec3& l, uint32_t idx) {
+    coral::Vec3 r = l - p;
     if (cfg_.dimension == 2) r.z() = 0.0;
     const double m2 = r.dot(inv * r);
     if (m2 <= gate2) fn(static_cast<int>(original_[idx]), m2, log_norm - 0.5 * m2);
   });
 }
 
-ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma) const {
+ProbabilisticMatch ProbabilisticMatcher::match(const coral::Vec3& p,
+                                               const coral::Mat3& sigma) const {
   ProbabilisticMatch best;
   // Sigma_k is shared by all candidates of p_k, so the highest density (Eq. 14) is the
   // smallest Mahalanobis distance; the 3-sigma gate removes outliers.
@@ -110,8 +112,8 @@ ProbabilisticMatch ProbabilisticMatcher::match(const Vec3& p, const Mat3& sigma)
   return best;
 }
 
-std::vector<ProbabilisticMatch> ProbabilisticMatcher::candidates(const Vec3& p,
-                                                                 const Mat3& sigma) const {
+std::vector<ProbabilisticMatch> ProbabilisticMatcher::candidates(const coral::Vec3& p,
+                                                                 const coral::Mat3& sigma) const {
   std::vector<ProbabilisticMatch> out;
   forEachInGate(p, sigma, [&](int target, double m2, double log_density) {
     out.push_back({target, m2, log_density});
@@ -119,9 +121,9 @@ std::vector<ProbabilisticMatch> ProbabilisticMatcher::candidates(const Vec3& p,
   return out;
 }
 
-std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
-                                                       const Covariances& covariances,
-                                                       const Points& landmarks,
+std::vector<ProbabilisticMatch> associateProbabilistic(const coral::Points& queries,
+                                                       const coral::Covariances& covariances,
+                                                       const coral::Points& landmarks,
                                                        const ProbabilisticAssociationConfig& cfg,
                                                        std::string* error) {
   if (!inputsValid(queries, covariances, cfg, error)) return {};
@@ -133,9 +135,9 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
   return out;
 }
 
-std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
-                                                  const Covariances& covariances,
-                                                  const Points& landmarks,
+std::vector<ProbabilisticMatch> associateOneToOne(const coral::Points& queries,
+                                                  const coral::Covariances& covariances,
+                                                  const coral::Points& landmarks,
                                                   const ProbabilisticAssociationConfig& cfg,
                                                   std::string* error) {
   if (!inputsValid(queries, covariances, cfg, error)) return {};
@@ -181,5 +183,5 @@ std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
   return out;
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

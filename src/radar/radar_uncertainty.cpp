@@ -6,7 +6,7 @@
 #include <limits>
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 namespace {
 constexpr double kDeg = M_PI / 180.0;
@@ -26,7 +26,7 @@ RadarNoiseConfig RadarNoiseConfig::tiAwr1843() { return fromLargestErrors(0.044,
 RadarNoiseConfig RadarNoiseConfig::vodZfFrgen21() { return fromLargestErrors(0.2, 1.5, 1.5); }
 
 std::string RadarNoiseConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(sigma_range > 0.0 && sigma_range < 10.0, "sigma_range", "in (0, 10) m", sigma_range)
       .require(sigma_azimuth > 0.0 && sigma_azimuth < M_PI / 2, "sigma_azimuth", "in (0, pi/2) rad",
                sigma_azimuth)
@@ -35,14 +35,14 @@ std::string RadarNoiseConfig::validate() const {
       .str();
 }
 
-Mat3 polarJacobian(const Vec3& p) {
+coral::Mat3 polarJacobian(const coral::Vec3& p) {
   const double rho = p.head<2>().norm();  // r cos(phi)
   const double r = p.norm();
   const double theta = std::atan2(p.y(), p.x());
   const double phi = std::atan2(p.z(), rho);
   const double ct = std::cos(theta), st = std::sin(theta);
   const double cp = std::cos(phi), sp = std::sin(phi);
-  Mat3 A;
+  coral::Mat3 A;
   // Column 0: Omega = dp/dr (Eq. 7, first block).
   // Column 1: dp/dtheta = r cos(phi) (-sin theta, cos theta, 0).
   // Column 2: dp/dphi = r (-sin phi cos theta, -sin phi sin theta, +cos phi); the sign of
@@ -53,20 +53,20 @@ Mat3 polarJacobian(const Vec3& p) {
   return A;
 }
 
-Mat3 pointCovariance(const Vec3& p, const RadarNoiseConfig& cfg, int dim) {
+coral::Mat3 pointCovariance(const coral::Vec3& p, const RadarNoiseConfig& cfg, int dim) {
   const double sr2 = cfg.sigma_range * cfg.sigma_range;
-  Vec3 q = p;
+  coral::Vec3 q = p;
   if (dim == 2) q.z() = 0.0;
   if (!(q.norm() > 0.0)) {
-    Mat3 S = sr2 * Mat3::Identity();
+    coral::Mat3 S = sr2 * coral::Mat3::Identity();
     if (dim == 2) S(2, 2) = 0.0;
     return S;
   }
-  const Mat3 A = polarJacobian(q);
+  const coral::Mat3 A = polarJacobian(q);
   // Eq. 8 with diag(sigma_r^2, Sigma_Omega) (Eq. 4); in 2D only range and azimuth.
-  const Vec3 var(sr2, cfg.sigma_azimuth * cfg.sigma_azimuth,
-                 dim == 2 ? 0.0 : cfg.sigma_elevation * cfg.sigma_elevation);
-  Mat3 S = A * var.asDiagonal() * A.transpose();
+  const coral::Vec3 var(sr2, cfg.sigma_azimuth * cfg.sigma_azimuth,
+                        dim == 2 ? 0.0 : cfg.sigma_elevation * cfg.sigma_elevation);
+  coral::Mat3 S = A * var.asDiagonal() * A.transpose();
   if (dim == 2) {
     S.row(2).setZero();
     S.col(2).setZero();
@@ -74,7 +74,8 @@ Mat3 pointCovariance(const Vec3& p, const RadarNoiseConfig& cfg, int dim) {
   return 0.5 * (S + S.transpose());
 }
 
-bool attachCovariances(Scan& scan, const RadarNoiseConfig& cfg, int dim, std::string* error) {
+bool attachCovariances(coral::Scan& scan, const RadarNoiseConfig& cfg, int dim,
+                       std::string* error) {
   std::string msg = cfg.validate();
   if (msg.empty() && dim != 2 && dim != 3)
     msg = "dim must be 2 or 3 (got " + std::to_string(dim) + ")";
@@ -82,14 +83,14 @@ bool attachCovariances(Scan& scan, const RadarNoiseConfig& cfg, int dim, std::st
     if (error) *error = msg;
     return false;
   }
-  const Mat3 nan_cov = Mat3::Constant(std::numeric_limits<double>::quiet_NaN());
+  const coral::Mat3 nan_cov = coral::Mat3::Constant(std::numeric_limits<double>::quiet_NaN());
   scan.covariances.clear();
   scan.covariances.reserve(scan.points.size());
-  for (const Vec3& p : scan.points)
+  for (const coral::Vec3& p : scan.points)
     scan.covariances.push_back(p.allFinite() ? pointCovariance(p - scan.origin, cfg, dim)
                                              : nan_cov);
   return true;
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

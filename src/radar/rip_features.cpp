@@ -10,7 +10,7 @@
 #endif
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 namespace {
 
@@ -58,7 +58,7 @@ inline int binAt(const uint8_t* row, int cols, int n) {
 }  // namespace
 
 std::string RipConfig::validate() const {
-  return Problems()
+  return coral::Problems()
       .require(k >= 1 && k <= 100000, "k", "in [1, 100000]", k)
       .require(z_min >= 0.0 && z_min <= 255.0, "z_min", "in [0, 255]", z_min)
       .require(window >= 0 && window <= 100, "window", "in [0, 100] bins", window)
@@ -104,21 +104,21 @@ void kStrongest(const uint8_t* row, int first_bin, int end_bin, int k, double z_
 
 bool extractRipFeatures(const PolarScan& scan, const RipConfig& cfg, RadarFeatures* out,
                         std::string* error) {
-  if (out == nullptr) return fail(error, "extractRipFeatures: null output");
+  if (out == nullptr) return coral::fail(error, "extractRipFeatures: null output");
   out->points.clear();
   out->intensity.clear();
   out->stamps.clear();
   const std::string bad = cfg.validate();
-  if (!bad.empty()) return fail(error, "invalid RIP config: " + bad);
-  if (scan.power.empty()) return fail(error, "polar scan has no power data");
-  if (scan.power.type() != CV_8UC1) return fail(error, "polar scan power must be CV_8UC1");
+  if (!bad.empty()) return coral::fail(error, "invalid RIP config: " + bad);
+  if (scan.power.empty()) return coral::fail(error, "polar scan has no power data");
+  if (scan.power.type() != CV_8UC1) return coral::fail(error, "polar scan power must be CV_8UC1");
   const int rows = scan.power.rows, cols = scan.power.cols;
   if (static_cast<int>(scan.azimuths.size()) != rows ||
       static_cast<int>(scan.stamps.size()) != rows || static_cast<int>(scan.valid.size()) != rows)
-    return fail(error, "polar scan: azimuths/stamps/valid sizes differ from " +
-                           std::to_string(rows) + " rows");
+    return coral::fail(error, "polar scan: azimuths/stamps/valid sizes differ from " +
+                                  std::to_string(rows) + " rows");
   if (!(scan.range_resolution > 0.0))
-    return fail(error, "polar scan: range_resolution must be > 0");
+    return coral::fail(error, "polar scan: range_resolution must be > 0");
   const double res = scan.range_resolution;
   // Bins whose range r * res lies in [min_range, max_range] (clamped in double: no overflow).
   const int first = static_cast<int>(std::min<double>(cols, std::ceil(cfg.min_range / res - 1e-9)));
@@ -180,5 +180,5 @@ bool extractRipFeatures(const PolarScan& scan, const RipConfig& cfg, RadarFeatur
   return true;
 }
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

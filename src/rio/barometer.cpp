@@ -22,7 +22,7 @@ double altitudeToPressure(double h) {
 }
 
 std::string BarometerConfig::validate() const {
-  return core::Problems()
+  return coral::Problems()
       .require(sigma > 0.0, "sigma", "> 0 m", sigma)
       .require(bias_walk > 0.0, "bias_walk", "> 0 m/sqrt(s)", bias_walk)
       .str();

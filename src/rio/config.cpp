@@ -5,7 +5,7 @@
 namespace coral_introspection {
 namespace rio {
 
-using core::Problems;
+using coral::Problems;
 
 std::string UncertaintyConfig::validate() const {
   return Problems()

@@ -119,7 +119,7 @@ namespace {
 
 bool load(config::ParamTree& tree, RioConfig* cfg, std::string* error,
           const RioConfigRules& rules) {
-  using core::fail;
+  using coral::fail;
   if (tree.empty()) return fail(error, tree.origin() + "the config is empty");
   for (const std::string& g : rules.other_groups) tree.accept(g);
   if (!readAll(tree, cfg)) return fail(error, tree.error());
@@ -148,7 +148,7 @@ bool loadRioConfig(config::ParamTree& tree, RioConfig* cfg, std::string* error,
 bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
                    const RioConfigRules& rules) {
   if (root.IsDefined() && !root.IsNull() && !root.IsMap())
-    return core::fail(error, "the config must be a map of groups (imu, extrinsics, ...)");
+    return coral::fail(error, "the config must be a map of groups (imu, extrinsics, ...)");
   config::ParamTree tree;
   return config::fromYaml(root, &tree, error) && load(tree, cfg, error, rules);
 }
@@ -156,11 +156,11 @@ bool loadRioConfig(const YAML::Node& root, RioConfig* cfg, std::string* error,
 bool applyOverride(config::ParamTree& tree, const std::string& assignment, std::string* error) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    return core::fail(error, "override '" + assignment + "' is not key=value");
+    return coral::fail(error, "override '" + assignment + "' is not key=value");
   // The value as YAML, typed exactly like a value in the file ({v: <value>} read as a tree).
   config::ParamTree value;
   if (!config::parseYaml("v: " + assignment.substr(eq + 1), &value, error))
-    return core::fail(error, "override '" + assignment + "': " + *error);
+    return coral::fail(error, "override '" + assignment + "': " + *error);
   config::ParamNode node = *value.root().child("v");
   node.where = "--set " + assignment;  // messages about it name the override, not the file
   tree.set(assignment.substr(0, eq), node);

@@ -328,7 +328,7 @@ void Estimator::addToWindow(std::unique_ptr<WindowFrame> w, const NavState& pred
   if (!cfg_.solver.use_points || f.static_points.empty()) return;
   // Probability-guided association of the static points (Sec. III-D).
   Points pts;
-  core::Covariances covs;
+  coral::Covariances covs;
   std::vector<Mat3> W;
   for (const RadarPoint& rp : f.static_points) {
     pts.push_back(rp.p);

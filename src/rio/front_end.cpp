@@ -17,8 +17,8 @@ FrontEndResult processRadarFrame(const RadarFrame& frame, const RioConfig& cfg,
       !frame.radial_velocity.empty() && frame.radial_velocity.size() == frame.points.size();
   const bool has_intensity = frame.intensity.size() == frame.points.size();
   const double sign = fe.radial_velocity_positive_away ? -1.0 : 1.0;
-  core::Points pts;
-  core::Covariances covs;
+  coral::Points pts;
+  coral::Covariances covs;
   std::vector<double> m;
   for (std::size_t i = 0; i < frame.points.size(); ++i) {
     const Vec3& p = frame.points[i];
@@ -41,10 +41,10 @@ FrontEndResult processRadarFrame(const RadarFrame& frame, const RioConfig& cfg,
   if (!out.has_doppler || out.points.empty()) return out;
 
   // Static points = consensus of Eq. 9 over the scan (robust to moving objects).
-  core::DopplerConfig dc = fe.doppler;
+  radar::DopplerConfig dc = fe.doppler;
   dc.radial_velocity_positive_away = fe.radial_velocity_positive_away;
   dc.sigma_doppler = cfg.uncertainty.sigma_doppler;
-  const core::DopplerFit fit = core::fitDoppler(pts, m, dc, &covs);
+  const radar::DopplerFit fit = radar::fitDoppler(pts, m, dc, &covs);
   if (fit.valid) {
     out.doppler_fit = true;
     out.v_radar = fit.velocity;
@@ -54,7 +54,7 @@ FrontEndResult processRadarFrame(const RadarFrame& frame, const RioConfig& cfg,
     // at DopplerConfig::confidence), and the fitted speed is small.
     out.standing = static_cast<int>(fit.inliers.size()) >= fe.zero_velocity_min_points &&
                    fit.velocity.norm() < fe.zero_velocity_speed &&
-                   core::testVelocity(fit, Vec3::Zero(), dc).consistent;
+                   radar::testVelocity(fit, Vec3::Zero(), dc).consistent;
     return out;
   }
   // No consensus: points consistent with the predicted velocity, if there is one; a scan

@@ -14,23 +14,23 @@ Mat3 pointCovariance(const Vec3& p, const UncertaintyConfig& cfg) {
   const Mat3 along = d * d.transpose();
   Mat3 S;
   if (!cfg.ablation_replace && cfg.mode != UncertaintyMode::kFull) {
-    core::RadarNoiseConfig shrunk = cfg.noise;  // Sec. IV-B: the removed sigma "very small"
+    radar::RadarNoiseConfig shrunk = cfg.noise;  // Sec. IV-B: the removed sigma "very small"
     if (cfg.mode == UncertaintyMode::kNoRange) {
       shrunk.sigma_range *= cfg.ablation_shrink;
     } else {
       shrunk.sigma_azimuth *= cfg.ablation_shrink;
       shrunk.sigma_elevation *= cfg.ablation_shrink;
     }
-    return cfg.covariance_scale * core::pointCovariance(p, shrunk, 3);
+    return cfg.covariance_scale * radar::pointCovariance(p, shrunk, 3);
   }
   switch (cfg.mode) {
     case UncertaintyMode::kFull:
-      S = core::pointCovariance(p, cfg.noise, 3);
+      S = radar::pointCovariance(p, cfg.noise, 3);
       break;
     case UncertaintyMode::kNoRange: {
-      core::RadarNoiseConfig bearing_only = cfg.noise;
+      radar::RadarNoiseConfig bearing_only = cfg.noise;
       bearing_only.sigma_range = 0.0;  // Eq. 8 without its range term
-      S = core::pointCovariance(p, bearing_only, 3) + iso2 * along;
+      S = radar::pointCovariance(p, bearing_only, 3) + iso2 * along;
       break;
     }
     case UncertaintyMode::kNoBearing:
@@ -44,7 +44,7 @@ Mat3 pointCovariance(const Vec3& p, const UncertaintyConfig& cfg) {
 double dopplerVariance(const Vec3& p, const Vec3& v_radar, const UncertaintyConfig& cfg) {
   if (cfg.mode == UncertaintyMode::kNone)
     return cfg.doppler_sigma_isotropic * cfg.doppler_sigma_isotropic;
-  return core::dopplerResidualVariance(p, v_radar, pointCovariance(p, cfg), cfg.sigma_doppler);
+  return radar::dopplerResidualVariance(p, v_radar, pointCovariance(p, cfg), cfg.sigma_doppler);
 }
 
 }  // namespace rio

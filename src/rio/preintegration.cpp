@@ -8,7 +8,7 @@ namespace coral_introspection {
 namespace rio {
 
 std::string ImuNoiseConfig::validate() const {
-  return core::Problems()
+  return coral::Problems()
       .require(acc_noise > 0.0, "acc_noise", "> 0 m/s^2/sqrt(Hz)", acc_noise)
       .require(gyro_noise > 0.0, "gyro_noise", "> 0 rad/s/sqrt(Hz)", gyro_noise)
       .require(acc_bias_walk > 0.0, "acc_bias_walk", "> 0 m/s^3/sqrt(Hz)", acc_bias_walk)

@@ -14,7 +14,7 @@ Vec3 Tracks::worldPosition(const Track& t, const RadarPoseOf& pose_of) const {
   return pose_of(last.frame) * last.p;
 }
 
-Tracks::Stats Tracks::associate(long frame, const Points& points, const core::Covariances& cov,
+Tracks::Stats Tracks::associate(long frame, const Points& points, const coral::Covariances& cov,
                                 const std::vector<Mat3>& W, const Eigen::Isometry3d& T_world_radar,
                                 const RadarPoseOf& pose_of, const AssociationConfig& cfg) {
   Stats stats;
@@ -29,13 +29,13 @@ Tracks::Stats Tracks::associate(long frame, const Points& points, const core::Co
     ids.push_back(id);
     candidates.push_back(l);
   }
-  core::ProbabilisticAssociationConfig acfg;
+  radar::ProbabilisticAssociationConfig acfg;
   acfg.dimension = 3;
   acfg.gate_sigma = cfg.gate_sigma;
   acfg.max_search_radius = cfg.max_search_radius;
   std::string err;
-  const std::vector<core::ProbabilisticMatch> matches =
-      core::associateOneToOne(points, cov, candidates, acfg, &err);
+  const std::vector<radar::ProbabilisticMatch> matches =
+      radar::associateOneToOne(points, cov, candidates, acfg, &err);
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Observation o{frame, points[k], W[k]};
     if (k < matches.size() && matches[k].target >= 0) {

@@ -105,9 +105,9 @@ bool hasField(const sensor_msgs::PointCloud2& cloud, const std::string& name) {
 // Hand-written rather than pcl::fromROSMsg: measurably faster and more general. On a
 // 120k-point XYZI cloud (cloud_conversion_benchmark, doc/benchmarks.md) it takes 9.46 M
 // instructions (callgrind) against 11.03 M for pcl::fromROSMsg<PointXYZ> + the copy into
-// core::Points, median 0.42-0.49 ms against 0.52-0.66 ms; and it reads float64 x, y, z, for
+// coral::Points, median 0.42-0.49 ms against 0.52-0.66 ms; and it reads float64 x, y, z, for
 // which PCL's field mapping fails ("Failed to find match for field 'x'").
-bool cloudToPoints(const sensor_msgs::PointCloud2& c, core::Points* points, std::string* error,
+bool cloudToPoints(const sensor_msgs::PointCloud2& c, coral::Points* points, std::string* error,
                    CloudReadStats* stats, const std::string& extra_field,
                    std::vector<double>* extra) {
   std::string dummy;
@@ -142,9 +142,9 @@ bool cloudToPoints(const sensor_msgs::PointCloud2& c, core::Points* points, std:
     const uint8_t* row = c.data.data() + static_cast<std::size_t>(r) * c.row_step;
     for (uint32_t i = 0; i < c.width; ++i) {
       const uint8_t* p = row + static_cast<std::size_t>(i) * c.point_step;
-      const core::Vec3 v(readValue(p + fx.offset, fx.datatype),
-                         readValue(p + fy.offset, fy.datatype),
-                         readValue(p + fz.offset, fz.datatype));
+      const coral::Vec3 v(readValue(p + fx.offset, fx.datatype),
+                          readValue(p + fy.offset, fy.datatype),
+                          readValue(p + fz.offset, fz.datatype));
       const double e = want_extra ? readValue(p + fe.offset, fe.datatype) : 0.0;
       if (!v.allFinite() || !std::isfinite(e)) {
         ++st.non_finite;
@@ -158,7 +158,7 @@ bool cloudToPoints(const sensor_msgs::PointCloud2& c, core::Points* points, std:
   return true;
 }
 
-sensor_msgs::PointCloud2 pointsToCloud(const core::Points& points, const std_msgs::Header& header,
+sensor_msgs::PointCloud2 pointsToCloud(const coral::Points& points, const std_msgs::Header& header,
                                        const std::vector<float>* intensity) {
   sensor_msgs::PointCloud2 c;
   c.header = header;
@@ -186,8 +186,8 @@ sensor_msgs::PointCloud2 pointsToCloud(const core::Points& points, const std_msg
   return c;
 }
 
-sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan& b,
-                                           const core::CoralResult& result,
+sensor_msgs::PointCloud2 buildQualityCloud(const coral::Scan& a, const coral::Scan& b,
+                                           const coral::CoralResult& result,
                                            const std_msgs::Header& header,
                                            const Eigen::Isometry3d& T_header_scans) {
   sensor_msgs::PointCloud2 c;
@@ -211,9 +211,9 @@ sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan
   if (count == 0) return c;
   sensor_msgs::PointCloud2Iterator<float> it(c, "x");
   sensor_msgs::PointCloud2Iterator<uint8_t> is(c, "scan");
-  for (const core::PointEntropy& pe : result.per_point) {
+  for (const coral::PointEntropy& pe : result.per_point) {
     if (!pe.valid) continue;
-    const core::Vec3 p = T_header_scans * pe.position.cast<double>();
+    const coral::Vec3 p = T_header_scans * pe.position.cast<double>();
     it[0] = static_cast<float>(p.x());
     it[1] = static_cast<float>(p.y());
     it[2] = static_cast<float>(p.z());
@@ -227,7 +227,7 @@ sensor_msgs::PointCloud2 buildQualityCloud(const core::Scan& a, const core::Scan
   return c;
 }
 
-AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict& verdict,
+AlignmentQuality toMessage(const coral::CoralResult& result, const coral::Verdict& verdict,
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b) {
   AlignmentQuality m;
@@ -249,10 +249,10 @@ AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict&
   return m;
 }
 
-AlignmentQuality toMessage(const core::AlignmentVerdict& v, const core::VerdictConfig& cfg,
+AlignmentQuality toMessage(const coral::AlignmentVerdict& v, const coral::VerdictConfig& cfg,
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b) {
-  core::Verdict combined;
+  coral::Verdict combined;
   combined.aligned = v.aligned;
   combined.probability = v.probability;
   AlignmentQuality m = toMessage(v.coral, combined, header, stamp_a, stamp_b);
@@ -260,7 +260,7 @@ AlignmentQuality toMessage(const core::AlignmentVerdict& v, const core::VerdictC
   m.status = v.valid ? AlignmentQuality::VERDICT : AlignmentQuality::INVALID_PAIR;
   m.aligned = v.valid && v.aligned;
   m.probability = v.valid ? v.probability : 0.0;
-  m.method = core::verdictMethodName(cfg.method);
+  m.method = coral::verdictMethodName(cfg.method);
   m.rejected_by = v.rejected_by;
   m.tolerance_translation = cfg.tolerance.translation;
   m.tolerance_rotation = cfg.tolerance.rotation_deg;
@@ -270,12 +270,12 @@ AlignmentQuality toMessage(const core::AlignmentVerdict& v, const core::VerdictC
   m.correction_hint = v.relative.hint.name;
   m.correction = toTransformMsg(v.relative.hint.name.empty() ? Eigen::Isometry3d::Identity()
                                                              : v.relative.hint.delta);
-  for (core::Axis a : v.relative.flat_axes) m.flat_axes.push_back(core::axisName(a));
+  for (coral::Axis a : v.relative.flat_axes) m.flat_axes.push_back(coral::axisName(a));
   return m;
 }
 
 VelocityConsistency toMessage(const online::DopplerReport& d, const std_msgs::Header& header) {
-  const core::ConsistencyResult& r = d.result;
+  const radar::ConsistencyResult& r = d.result;
   VelocityConsistency m;
   m.header = header;
   m.valid = r.valid;

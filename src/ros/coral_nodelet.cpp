@@ -19,12 +19,12 @@
 #include "coral_introspection/CheckAlignment.h"
 #include "coral_introspection/CoralConfig.h"
 #include "coral_introspection/online/mailbox.hpp"
-#include "coral_introspection/ros/check_alignment.hpp"
-#include "coral_introspection/ros/diagnostics.hpp"
+#include "coral_introspection/ros/coral_check_alignment.hpp"
+#include "coral_introspection/ros/coral_diagnostics.hpp"
+#include "coral_introspection/ros/coral_outputs.hpp"
+#include "coral_introspection/ros/coral_scan_source.hpp"
 #include "coral_introspection/ros/guarded.hpp"
 #include "coral_introspection/ros/heap_release.hpp"
-#include "coral_introspection/ros/outputs.hpp"
-#include "coral_introspection/ros/scan_source.hpp"
 
 namespace coral_introspection {
 
@@ -71,7 +71,7 @@ class CoralNodelet : public nodelet::Nodelet {
     stats_.doppler = config_.online.doppler.enabled;
     stats_.calibration = config_.online.calibration.enabled;
     if (config_.online.calibration.enabled &&
-        config_.online.verdict.method == core::VerdictMethod::kRelative)
+        config_.online.verdict.method == coral::VerdictMethod::kRelative)
       NODELET_INFO(
           "calibration/enabled with classifier/method relative: the refitted classifier "
           "is written (calibration/output_file) but does not judge");
@@ -282,7 +282,7 @@ class CoralNodelet : public nodelet::Nodelet {
   std::mutex config_mutex_;  // config_, config_changed_ (every thread, briefly)
   NodeConfig config_;
   bool config_changed_ = false;
-  std::optional<core::ClassifierConfig> calibrated_;  // self-calibration in use (config_mutex_)
+  std::optional<coral::ClassifierConfig> calibrated_;  // self-calibration in use (config_mutex_)
   std::atomic<bool> reset_requested_{false};
   online::Mailbox<ScanEvent> mailbox_{100, &CoralNodelet::dropNotice};
   online::Introspector introspector_;            // worker thread only

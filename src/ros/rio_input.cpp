@@ -11,7 +11,7 @@ namespace coral_introspection {
 namespace ros_adapters {
 
 std::string RioInputConfig::validate() const {
-  return core::Problems()
+  return coral::Problems()
       .require(time_source == "header" || time_source == "trigger", "time_source",
                "header or trigger", time_source)
       .require(!velocity_field.empty(), "velocity_field", "a field name", velocity_field)
@@ -46,12 +46,12 @@ bool loadRioInputConfig(const config::ParamTree& file, RioInputConfig* cfg, std:
       ros.get("time_source", &cfg->time_source) &&
       ros.get("velocity_field", &cfg->velocity_field) &&
       ros.get("trigger_seq_offset", &cfg->trigger_seq_offset);
-  if (!ok) return core::fail(error, ros.error());
+  if (!ok) return coral::fail(error, ros.error());
   // A misspelt key would leave a topic at its default: an error, as in the estimator's groups.
   if (const std::string unknown = ros.unknownKeysMessage(); !unknown.empty())
-    return core::fail(error, unknown);
+    return coral::fail(error, unknown);
   const std::string invalid = cfg->validate();
-  return invalid.empty() || core::fail(error, file.origin() + invalid);
+  return invalid.empty() || coral::fail(error, file.origin() + invalid);
 }
 
 bool RioInput::imu(const sensor_msgs::Imu& msg, rio::ImuSample* out, std::string* error) {

@@ -5,7 +5,7 @@
 
 #include "coral_introspection/coral/classifier.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 TEST(Classifier, SigmoidIsStableAndSymmetric) {
   EXPECT_DOUBLE_EQ(sigmoid(0.0), 0.5);

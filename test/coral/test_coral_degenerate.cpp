@@ -14,7 +14,8 @@
 #include "coral_introspection/coral/point_filter.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 

@@ -9,7 +9,7 @@
 
 #include "coral_introspection/coral/coral.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 

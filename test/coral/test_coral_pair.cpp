@@ -10,7 +10,8 @@
 #include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 

@@ -11,7 +11,8 @@
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 

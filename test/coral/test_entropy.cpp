@@ -7,7 +7,7 @@
 
 #include "coral_introspection/coral/entropy.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 double analyticEntropy(const Mat3& S, int dim) {

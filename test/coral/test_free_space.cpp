@@ -12,7 +12,7 @@
 #include "coral_introspection/coral/free_space.hpp"
 #include "coral_introspection/coral/verdict.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 

@@ -8,7 +8,7 @@
 
 #include "coral_introspection/coral/logistic_regression.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 // Overlapping 2-feature classes: the ML optimum is finite.

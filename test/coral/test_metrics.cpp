@@ -5,7 +5,7 @@
 
 #include "coral_introspection/coral/metrics.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 TEST(Metrics, AccuracyPlainAndBalanced) {
   // 3 positives (2 right), 1 negative (right): plain 3/4, balanced (2/3 + 1) / 2.

@@ -8,7 +8,7 @@
 
 #include "coral_introspection/coral/moments_kernel.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include "coral_introspection/coral/neighbour_grid.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 std::vector<uint32_t> brute(const Points& pts, const Vec3& q, double r, int dim) {

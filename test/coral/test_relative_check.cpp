@@ -10,7 +10,8 @@
 #include "coral_introspection/eval/synthetic.hpp"
 #include "support/yard_pair.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 TEST(Tolerance, OffsetsPerDimensionWithSizesAndNames) {
   ToleranceConfig tol;

@@ -10,7 +10,7 @@
 
 #include "coral_introspection/coral/statistics.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -9,7 +9,7 @@
 
 #include "coral_introspection/coral/voxel_filter.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 
 namespace {
 // Output sorted lexicographically (the filter's order is a hash order).

@@ -8,7 +8,8 @@
 
 #include "coral_introspection/eval/cfear_scores.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 SurfacePoint surface(const Eigen::Vector2d& mean, const Eigen::Matrix2d& cov) {

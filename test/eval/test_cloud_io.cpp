@@ -12,7 +12,8 @@
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "support/test_data.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 using coral_test::tempPath;
 
 namespace {

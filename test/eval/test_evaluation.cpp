@@ -9,7 +9,8 @@
 #include "coral_introspection/eval/evaluation.hpp"
 #include "coral_introspection/eval/training_report.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 // 10 pairs, 1 aligned + 2 misaligned samples per pair and group. In pairs 0-4 aligned has

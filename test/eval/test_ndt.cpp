@@ -8,7 +8,8 @@
 #include "coral_introspection/eval/ndt.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 Points shifted(const Points& p, const Vec3& d) {

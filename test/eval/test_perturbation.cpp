@@ -6,7 +6,8 @@
 #include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/perturbation.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 TEST(Perturbation, RadarProtocolHasFourTranslationsPerMagnitude) {
   const auto ps = makePerturbations(PerturbationConfig::radarProtocol());

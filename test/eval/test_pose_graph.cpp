@@ -10,7 +10,8 @@
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/trajectory_metrics.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 

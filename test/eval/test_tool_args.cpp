@@ -3,7 +3,7 @@
 
 #include "coral_introspection/eval/tool_args.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::eval;
 
 TEST(ToolArgs, OptionsFlagsAndRepeats) {
   const char* argv[] = {"tool", "--config", "a.yaml", "--data", "x", "--loop", "--data", "y"};

@@ -13,7 +13,9 @@
 #include "coral_introspection/eval/training_set.hpp"
 #include "support/test_data.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 
 namespace {
 // Sensor driving along the yard, one scan every 0.5 m.

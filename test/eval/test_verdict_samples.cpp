@@ -14,7 +14,8 @@
 #include "coral_introspection/eval/verdict_samples.hpp"
 #include "support/test_data.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::eval;
 
 namespace {
 

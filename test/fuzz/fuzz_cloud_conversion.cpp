@@ -38,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   c.data.assign(in.rest(), in.rest() + in.remaining());
 
   const bool with_extra = shape & 0x80;
-  coral_introspection::core::Points pts;
+  coral_introspection::coral::Points pts;
   std::vector<double> extra;
   ra::CloudReadStats stats;
   std::string err;

@@ -1,5 +1,5 @@
 // libFuzzer harness: two small point sets and a CorAl config -> computeCoral (Eq. 1-6) and
-// core::CoralPair, the verdict path (CorAl of one pair at several poses, probes, the
+// coral::CoralPair, the verdict path (CorAl of one pair at several poses, probes, the
 // relative check).
 // Each point starts with a control byte choosing how its coordinates are read: small
 // quantised values (clusters with neighbours), raw float32 or float64 (NaN, Inf, denormals,
@@ -20,7 +20,7 @@
 #include "coral_introspection/coral/relative_check.hpp"
 #include "fuzz_input.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
 using coral_fuzz::FuzzInput;
 
 namespace {

@@ -12,7 +12,8 @@
 #include "coral_introspection/radar/rip_features.hpp"
 #include "fuzz_input.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
 using coral_fuzz::FuzzInput;
 
 namespace {

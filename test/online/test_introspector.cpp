@@ -11,7 +11,7 @@
 #include "coral_introspection/online/introspector.hpp"
 
 using namespace coral_introspection;
-using core::Vec3;
+using coral::Vec3;
 using online::PairAction;
 
 namespace {
@@ -19,18 +19,18 @@ namespace {
 // Sensor pose at time t [s]: 8 m/s forward while turning at 0.8 rad/s (fast for a spinning
 // radar: a revolution of 0.25 s is distorted by up to 2 m).
 Eigen::Isometry3d drivePose(double t) {
-  core::Twist v;
+  radar::Twist v;
   v.linear = Vec3(8.0, 0.0, 0.0);
   v.angular = Vec3(0.0, 0.0, 0.8);
-  return core::se2(-6.0, -2.0, 0.2) * core::constantVelocityPose(v, t);
+  return coral::se2(-6.0, -2.0, 0.2) * radar::constantVelocityPose(v, t);
 }
 
 // One revolution of a spinning radar starting at t0: azimuth i is measured at
 // t0 + i * period / n from the pose at that time; points in that (moving) sensor frame.
-core::RadarFeatures radarScan(double t0, std::mt19937& rng, int n = 720, double period = 0.25) {
-  const auto scene = core::SyntheticScene::structuredYard();
+radar::RadarFeatures radarScan(double t0, std::mt19937& rng, int n = 720, double period = 0.25) {
+  const auto scene = eval::SyntheticScene::structuredYard();
   std::normal_distribution<double> noise(0.0, 0.03);
-  core::RadarFeatures f;
+  radar::RadarFeatures f;
   for (int i = 0; i < n; ++i) {
     const double t = t0 + period * i / n, az = 2.0 * M_PI * i / n;
     const Eigen::Isometry3d T = drivePose(t);
@@ -56,8 +56,8 @@ online::ScanInput radarInput(double t0, std::mt19937& rng, const Eigen::Isometry
 
 online::IntrospectorConfig radarConfig() {
   online::IntrospectorConfig c;
-  c.coral = core::CoralConfig::radarPaper();  // 2D, r = 1 m
-  c.verdict.classifier.beta0 = 11.0;          // boundary Q = 0.55 nats (radar preset)
+  c.coral = coral::CoralConfig::radarPaper();  // 2D, r = 1 m
+  c.verdict.classifier.beta0 = 11.0;           // boundary Q = 0.55 nats (radar preset)
   c.verdict.classifier.beta1 = -20.0;
   c.verdict.classifier.beta2 = 20.0;
   return c;
@@ -65,11 +65,11 @@ online::IntrospectorConfig radarConfig() {
 
 online::ScanInput lidarInput(double stamp, const Eigen::Isometry3d& truth,
                              const Eigen::Isometry3d& reported, std::mt19937& rng) {
-  core::LidarModel m;
+  eval::LidarModel m;
   m.rings = 16;
   online::ScanInput in;
   in.stamp = stamp;
-  in.features.points = core::simulateScan(core::SyntheticScene::structuredYard(), truth, m, rng);
+  in.features.points = eval::simulateScan(eval::SyntheticScene::structuredYard(), truth, m, rng);
   in.T_fixed_sensor = reported;
   return in;
 }
@@ -101,7 +101,7 @@ TEST(Introspector, LidarPoseErrorFlagsExactlyThePairsUsingIt) {
   const int bad = 3;
   for (int k = 0; k < 6; ++k) {
     const double t = 0.1 * k;
-    const Eigen::Isometry3d truth = core::se2(-8.0 + 0.5 * k, -1.0, 0.05 * k);
+    const Eigen::Isometry3d truth = coral::se2(-8.0 + 0.5 * k, -1.0, 0.05 * k);
     Eigen::Isometry3d reported = truth;
     if (k == bad) reported = truth * Eigen::Translation3d(0.0, 0.5, 0.0);  // odometry error
     const online::Report r = intro.process(lidarInput(t, truth, reported, rng));
@@ -165,17 +165,17 @@ TEST(Introspector, FirstRadarScanIsDeskewedWithTheTwistTowardsTheSecond) {
   EXPECT_FALSE(intro.process(s0, keep).deskewed);  // no velocity yet
   const online::Report r = intro.process(s1, keep);
   ASSERT_TRUE(r.judged);
-  core::Twist v;
-  ASSERT_TRUE(core::twistBetween(T0, T1, 0.25, &v));
-  core::RadarFeatures f0 = s0.features, f1 = s1.features;
-  core::compensateMotion(v, 10.0, &f0);
-  core::compensateMotion(v, 10.25, &f1);
+  radar::Twist v;
+  ASSERT_TRUE(radar::twistBetween(T0, T1, 0.25, &v));
+  radar::RadarFeatures f0 = s0.features, f1 = s1.features;
+  radar::compensateMotion(v, 10.0, &f0);
+  radar::compensateMotion(v, 10.25, &f1);
   ASSERT_EQ(r.pair.ref.points.size(), f0.points.size());
   for (std::size_t i = 0; i < f0.points.size(); ++i)
     ASSERT_EQ(r.pair.ref.points[i], f0.points[i]) << i;  // exactly the same computation
-  const core::Scan cur_in_ref = core::transformScan(
+  const coral::Scan cur_in_ref = coral::transformScan(
       [&] {
-        core::Scan s;
+        coral::Scan s;
         s.points = f1.points;
         return s;
       }(),
@@ -208,10 +208,10 @@ TEST(Introspector, LoopingBagRestartsPairingAndClearsTheVelocityHistory) {
   EXPECT_TRUE(next.pair.verdict.aligned) << "Q = " << next.pair.verdict.coral.quality;
   EXPECT_DOUBLE_EQ(next.stamp_ref, 100.0);
   // The reset scan was de-skewed with the twist of the new sequence only.
-  core::Twist v;
-  ASSERT_TRUE(core::twistBetween(drivePose(0.0), drivePose(0.25), 0.25, &v));
-  core::RadarFeatures f = again0.features;
-  core::compensateMotion(v, 100.0, &f);
+  radar::Twist v;
+  ASSERT_TRUE(radar::twistBetween(drivePose(0.0), drivePose(0.25), 0.25, &v));
+  radar::RadarFeatures f = again0.features;
+  radar::compensateMotion(v, 100.0, &f);
   ASSERT_EQ(next.pair.ref.points.size(), f.points.size());
   EXPECT_EQ(next.pair.ref.points.front(), f.points.front());
   EXPECT_EQ(next.pair.ref.points.back(), f.points.back());
@@ -250,7 +250,7 @@ TEST(Introspector, GapDuplicateAndTooCloseActions) {
 TEST(Introspector, TfFailureIsCountedAndLeavesTheStreamAlone) {
   online::Introspector intro(lidarConfig());
   std::mt19937 rng(6);
-  auto pose = [](int k) { return core::se2(-8.0 + 0.5 * k, -1.0, 0.0); };
+  auto pose = [](int k) { return coral::se2(-8.0 + 0.5 * k, -1.0, 0.0); };
   intro.process(lidarInput(0.0, pose(0), pose(0), rng));
   online::ScanInput lost = lidarInput(0.1, pose(1), pose(1), rng);
   lost.T_fixed_sensor.reset();
@@ -293,21 +293,21 @@ TEST(Introspector, ResetStartsANewSequenceAndSetConfigValidates) {
 
 TEST(JudgePair, ExplainsWhyThereIsNoVerdict) {
   std::mt19937 rng(1);
-  core::LidarModel m;
+  eval::LidarModel m;
   m.rings = 8;
-  const auto scene = core::SyntheticScene::structuredYard();
-  core::Scan a, b;
-  a.points = core::simulateScan(scene, core::se2(-8, -1, 0), m, rng);
-  b.points = core::simulateScan(scene, core::se2(-7.5, -1, 0), m, rng);
+  const auto scene = eval::SyntheticScene::structuredYard();
+  coral::Scan a, b;
+  a.points = eval::simulateScan(scene, coral::se2(-8, -1, 0), m, rng);
+  b.points = eval::simulateScan(scene, coral::se2(-7.5, -1, 0), m, rng);
   const online::IntrospectorConfig cfg = lidarConfig();
   const online::PairJudgement ok =
-      online::judgePair(a, b, core::se2(-8, -1, 0).inverse() * core::se2(-7.5, -1, 0), cfg, true);
+      online::judgePair(a, b, coral::se2(-8, -1, 0).inverse() * coral::se2(-7.5, -1, 0), cfg, true);
   ASSERT_TRUE(ok.verdict.coral.valid) << ok.reason;
   EXPECT_TRUE(ok.reason.empty());
   EXPECT_TRUE(ok.verdict.aligned) << "Q = " << ok.verdict.coral.quality;
   EXPECT_EQ(ok.verdict.coral.per_point.size(), a.points.size() + b.points.size());
   // 100 m away: no overlap.
-  const online::PairJudgement far = online::judgePair(a, b, core::se2(100, 0, 0), cfg, false);
+  const online::PairJudgement far = online::judgePair(a, b, coral::se2(100, 0, 0), cfg, false);
   EXPECT_FALSE(far.verdict.coral.valid);
   EXPECT_NE(far.reason.find("overlap"), std::string::npos) << far.reason;
   EXPECT_NE(far.reason.find("min_overlap"), std::string::npos) << far.reason;
@@ -317,7 +317,7 @@ TEST(JudgePair, ExplainsWhyThereIsNoVerdict) {
 // polar noise is the configured noise model, so with point covariances the false-alarm
 // rate at confidence 0.99 is near 1 %; without them the unmodelled bearing noise raises it.
 TEST(Introspector, DopplerCheckUsesPointCovariances) {
-  core::DopplerSimConfig sim;  // 60 points, 30 % movers, 0.05 m/s Doppler noise
+  eval::DopplerSimConfig sim;  // 60 points, 30 % movers, 0.05 m/s Doppler noise
   auto run = [&](bool covariances, double speed_error, int n) {
     online::IntrospectorConfig c;
     c.doppler.enabled = true;
@@ -333,7 +333,7 @@ TEST(Introspector, DopplerCheckUsesPointCovariances) {
       const Vec3 v(1.75 + 1.25 * u(rng), 0.5 * u(rng), 0.2 * u(rng));
       const Vec3 v_odom = v + Vec3(speed_error, 0.0, 0.0);
       for (int k = 0; k < 2; ++k) {
-        const core::DopplerSimScan s = core::simulateDopplerScan(v, sim, rng);
+        const eval::DopplerSimScan s = eval::simulateDopplerScan(v, sim, rng);
         online::ScanInput in;
         in.stamp = 1.0 * i + 0.1 * k;
         in.features.points = s.points;

@@ -14,16 +14,16 @@ using namespace coral_introspection;
 
 TEST(OxfordTrainingVsIntrospector, IdenticalDeskewedFeaturesAndQ) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
-  core::OxfordDataset ds;
+  eval::OxfordDataset ds;
   std::string err;
   ASSERT_TRUE(ds.load(coral_data, &err)) << err;
-  core::OxfordTrainingConfig ocfg;  // paper settings, motion compensation on
+  eval::OxfordTrainingConfig ocfg;  // paper settings, motion compensation on
   ocfg.with_cfear = false;
-  std::vector<core::TrainingScan> train;
-  core::Isometries poses;
-  ASSERT_TRUE(core::loadOxfordTrainingScans(ds, ocfg, nullptr, &train, &poses, &err)) << err;
-  const std::vector<core::ScanPair> pairs = core::makePairs(poses, 0.0);  // consecutive
-  core::FeatureConfig fcfg = core::FeatureConfig::radar();
+  std::vector<eval::TrainingScan> train;
+  coral::Isometries poses;
+  ASSERT_TRUE(eval::loadOxfordTrainingScans(ds, ocfg, nullptr, &train, &poses, &err)) << err;
+  const std::vector<eval::ScanPair> pairs = eval::makePairs(poses, 0.0);  // consecutive
+  eval::FeatureConfig fcfg = eval::FeatureConfig::radar();
   fcfg.with_cfear = false;
 
   online::IntrospectorConfig icfg;
@@ -33,10 +33,10 @@ TEST(OxfordTrainingVsIntrospector, IdenticalDeskewedFeaturesAndQ) {
   keep.keep_scans = true;
   std::size_t compared_points = 0;
   for (std::size_t i = 0; i < ds.png_paths.size(); ++i) {
-    core::PolarScan polar;
+    radar::PolarScan polar;
     online::ScanInput in;
-    ASSERT_TRUE(core::loadOxfordScan(ds.png_paths[i], &polar, &err)) << err;
-    ASSERT_TRUE(core::extractRipFeatures(polar, ocfg.rip, &in.features, &err)) << err;
+    ASSERT_TRUE(radar::loadOxfordScan(ds.png_paths[i], &polar, &err)) << err;
+    ASSERT_TRUE(radar::extractRipFeatures(polar, ocfg.rip, &in.features, &err)) << err;
     in.stamp = polar.stamp;
     in.is_radar = true;
     in.T_fixed_sensor = poses[i];
@@ -46,11 +46,11 @@ TEST(OxfordTrainingVsIntrospector, IdenticalDeskewedFeaturesAndQ) {
       continue;
     }
     ASSERT_TRUE(r.judged) << r.reason;
-    const core::ScanPair& p = pairs[i - 1];
+    const eval::ScanPair& p = pairs[i - 1];
     ASSERT_EQ(p.b, static_cast<int>(i));
     // De-skewed features: the reference in its own frame, the later scan moved into it.
-    const core::Points& ref = train[p.a].scan.points;
-    const core::Scan cur = core::transformScan(train[p.b].scan, p.T_a_b);
+    const coral::Points& ref = train[p.a].scan.points;
+    const coral::Scan cur = coral::transformScan(train[p.b].scan, p.T_a_b);
     ASSERT_EQ(r.pair.ref.points.size(), ref.size()) << "pair " << i;
     ASSERT_EQ(r.pair.cur.points.size(), cur.points.size()) << "pair " << i;
     for (std::size_t k = 0; k < ref.size(); ++k)
@@ -59,7 +59,7 @@ TEST(OxfordTrainingVsIntrospector, IdenticalDeskewedFeaturesAndQ) {
       ASSERT_EQ(r.pair.cur.points[k], cur.points[k]) << "pair " << i << " point " << k;
     compared_points += ref.size() + cur.points.size();
     // CorAl as training computes it for the aligned sample (x1 = H_joint, x2 = H_sep).
-    const auto f = core::computeFeatures(train[p.a], train[p.b], {}, {}, p.T_a_b, fcfg);
+    const auto f = eval::computeFeatures(train[p.a], train[p.b], {}, {}, p.T_a_b, fcfg);
     ASSERT_TRUE(r.pair.verdict.coral.valid) << r.reason;
     EXPECT_EQ(r.pair.verdict.coral.h_joint, f[0][0]) << "pair " << i;
     EXPECT_EQ(r.pair.verdict.coral.h_sep, f[0][1]) << "pair " << i;

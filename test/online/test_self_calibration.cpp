@@ -22,7 +22,7 @@ using online::SelfCalibrationConfig;
 namespace {
 
 // Q = H_joint - H_sep (Eq. 5) at which p = 0.5, at H_sep = h_sep.
-double boundaryQ(const core::ClassifierConfig& c, double h_sep) {
+double boundaryQ(const coral::ClassifierConfig& c, double h_sep) {
   return -(c.beta0 + (c.beta1 + c.beta2) * h_sep) / c.beta1;
 }
 
@@ -47,8 +47,8 @@ void addPairs(SelfCalibration* cal, const FeatureModel& m, int pairs, std::mt199
   }
 }
 
-core::ClassifierConfig alwaysAligned() {  // a deliberately wrong classifier: p ~ 1 always
-  core::ClassifierConfig c;
+coral::ClassifierConfig alwaysAligned() {  // a deliberately wrong classifier: p ~ 1 always
+  coral::ClassifierConfig c;
   c.beta0 = 30.0;
   c.beta1 = -1.0;
   c.beta2 = 1.0;
@@ -109,8 +109,8 @@ TEST(SelfCalibration, SeparableFeaturesGiveHeldOutAucNearOneAndReplaceAWrongClas
   int right = 0, total = 0;
   for (int k = 0; k < 200; ++k) {
     const double h = 3.0 + 0.3 * g(rng);
-    right += core::classify(cal.classifier(), h + 0.05 + 0.03 * g(rng), h).aligned;
-    right += !core::classify(cal.classifier(), h + 0.45 + 0.03 * g(rng), h).aligned;
+    right += coral::classify(cal.classifier(), h + 0.05 + 0.03 * g(rng), h).aligned;
+    right += !coral::classify(cal.classifier(), h + 0.45 + 0.03 * g(rng), h).aligned;
     total += 2;
   }
   EXPECT_GE(right, total - 2);
@@ -128,8 +128,8 @@ TEST(SelfCalibration, SeparableFeaturesGiveHeldOutAucNearOneAndReplaceAWrongClas
 // (H_sep is one value per pair), so the preset's direction holds; hundreds of pairs with
 // another direction override it. The boundary's position always comes from the data.
 TEST(SelfCalibration, PriorHoldsTheDirectionWithFewPairsAndFadesWithMany) {
-  core::ClassifierConfig preset;  // -beta2 / beta1 = 1: boundary on Q alone
-  FeatureModel tilted;            // the data's direction: 1.5
+  coral::ClassifierConfig preset;  // -beta2 / beta1 = 1: boundary on Q alone
+  FeatureModel tilted;             // the data's direction: 1.5
   tilted.tilt = 0.5;
   auto fit = [&](double weight, int pairs) {
     SelfCalibrationConfig cfg;
@@ -140,12 +140,12 @@ TEST(SelfCalibration, PriorHoldsTheDirectionWithFewPairsAndFadesWithMany) {
     EXPECT_EQ(cal.status().refits, static_cast<uint64_t>(pairs));
     return cal.status().classifier;
   };
-  auto ratio = [](const core::ClassifierConfig& c) { return -c.beta2 / c.beta1; };
-  const core::ClassifierConfig few = fit(10.0, 3), few_free = fit(0.0, 3);
+  auto ratio = [](const coral::ClassifierConfig& c) { return -c.beta2 / c.beta1; };
+  const coral::ClassifierConfig few = fit(10.0, 3), few_free = fit(0.0, 3);
   EXPECT_NEAR(ratio(few), 1.0, 0.15);
   EXPECT_GT(std::abs(ratio(few_free) - 1.0), 3.0 * std::abs(ratio(few) - 1.0))
       << ratio(few_free) << " vs " << ratio(few);
-  const core::ClassifierConfig many = fit(10.0, 300);
+  const coral::ClassifierConfig many = fit(10.0, 300);
   EXPECT_NEAR(ratio(many), 1.5, 0.1);
   // Either way the boundary lies between the classes at the mean scene (Q 0.05 / 0.45).
   EXPECT_GT(boundaryQ(few, 3.0), 0.1);
@@ -174,19 +174,20 @@ using coral_introspection::test::YardPair;
 
 TEST(SelfCalibration, RelativeCheckAcceptsThePairAtTruthOnly) {
   const YardPair p = test::yardPair(1, 7, Eigen::Isometry3d::Identity());
-  const core::CoralConfig coral = test::planarYardCoral();
-  core::VerdictConfig v;
-  v.tolerance = core::ToleranceConfig::lidar2d();
+  const coral::CoralConfig coral = test::planarYardCoral();
+  coral::VerdictConfig v;
+  v.tolerance = coral::ToleranceConfig::lidar2d();
   SelfCalibration cal;
-  const core::CoralResult truth = core::computeCoral(p.a, core::transformScan(p.b, p.T_a_b), coral);
+  const coral::CoralResult truth =
+      coral::computeCoral(p.a, coral::transformScan(p.b, p.T_a_b), coral);
   ASSERT_TRUE(truth.valid);
-  const core::CoralPair pair(p.a, p.b, coral);
+  const coral::CoralPair pair(p.a, p.b, coral);
   EXPECT_TRUE(cal.addPair(pair, p.T_a_b, truth, v));
   EXPECT_EQ(cal.status().extra_evaluations, 6u);  // x, y, yaw in both directions
   EXPECT_EQ(cal.status().samples, 7u);            // 1 aligned + 6 misaligned
   // Two tolerances off along x: the pose is no minimum of Q, nothing is learnt from it.
-  const Eigen::Isometry3d off = p.T_a_b * core::se2(0.6, 0.0, 0.0);
-  const core::CoralResult at_off = core::computeCoral(p.a, core::transformScan(p.b, off), coral);
+  const Eigen::Isometry3d off = p.T_a_b * coral::se2(0.6, 0.0, 0.0);
+  const coral::CoralResult at_off = coral::computeCoral(p.a, coral::transformScan(p.b, off), coral);
   ASSERT_TRUE(at_off.valid);
   EXPECT_FALSE(cal.addPair(pair, off, at_off, v));
   EXPECT_EQ(cal.status().extra_evaluations, 12u);
@@ -200,7 +201,7 @@ TEST(SelfCalibration, RelativeCheckAcceptsThePairAtTruthOnly) {
 TEST(SelfCalibration, IntrospectorCorrectsAWrongClassifierOnline) {
   online::IntrospectorConfig cfg;
   cfg.coral = test::planarYardCoral();
-  cfg.verdict.tolerance = core::ToleranceConfig::lidar2d();
+  cfg.verdict.tolerance = coral::ToleranceConfig::lidar2d();
   cfg.verdict.classifier = alwaysAligned();
   cfg.calibration.enabled = true;
   cfg.calibration.fraction_of_pairs = 1.0;
@@ -208,22 +209,22 @@ TEST(SelfCalibration, IntrospectorCorrectsAWrongClassifierOnline) {
   ASSERT_EQ(cfg.validate(), "");
   online::Introspector intro(cfg);
   std::mt19937 rng(9);
-  core::LidarModel lidar;
+  eval::LidarModel lidar;
   lidar.rings = 1;
   lidar.v_min_deg = lidar.v_max_deg = 0.0;
-  const auto scene = core::SyntheticScene::structuredYard();
+  const auto scene = eval::SyntheticScene::structuredYard();
   int right_before = 0, wrong_before = 0, right_after = 0, wrong_after = 0, first_use = -1;
   int bad_pairs = 0, clean_accepted = 0, bad_accepted = 0;
   for (int k = 0; k < 60; ++k) {
     // Back and forth along the yard (x in [-8, 8]), turning slowly.
     const double s = std::fmod(0.35 * k, 32.0), x = s < 16.0 ? -8.0 + s : 24.0 - s;
     const Eigen::Isometry3d truth =
-        core::se2(x, -1.0 + 0.5 * std::sin(0.3 * k), 0.1 * std::sin(0.2 * k));
+        coral::se2(x, -1.0 + 0.5 * std::sin(0.3 * k), 0.1 * std::sin(0.2 * k));
     const bool bad = k % 5 == 4;
     online::ScanInput in;
     in.stamp = 0.1 * k;
-    in.features.points = core::simulateScan(scene, truth, lidar, rng);
-    in.T_fixed_sensor = bad ? truth * core::se2(0.0, 0.3, 0.0) : truth;  // 1 tolerance
+    in.features.points = eval::simulateScan(scene, truth, lidar, rng);
+    in.T_fixed_sensor = bad ? truth * coral::se2(0.0, 0.3, 0.0) : truth;  // 1 tolerance
     const bool in_use = intro.calibration().status().in_use;
     if (in_use && first_use < 0) first_use = k;
     const online::Report r = intro.process(std::move(in));

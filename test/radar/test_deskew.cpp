@@ -5,7 +5,8 @@
 
 #include "coral_introspection/radar/deskew.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
 
 namespace {
 Twist twist(double vx, double vy, double wz) {

@@ -11,7 +11,9 @@
 #include "coral_introspection/radar/doppler.hpp"
 #include "support/test_data.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 
 namespace {
 

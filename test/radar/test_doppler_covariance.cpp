@@ -13,7 +13,8 @@
 #include "coral_introspection/radar/doppler.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
 
 namespace {
 

@@ -9,7 +9,9 @@
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 
 TEST(MotionCompensation, ExponentialAndLogarithmAgree) {
   Twist tw;

@@ -13,11 +13,13 @@
 #include "coral_introspection/radar/rip_features.hpp"
 #include "support/test_data.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 
 namespace {
 // RIP features of every scan, optionally de-skewed by the online policy
-// (core::deskewVelocities) on the ground-truth poses.
+// (radar::deskewVelocities) on the ground-truth poses.
 std::vector<RadarFeatures> extractAll(const OxfordDataset& ds, bool compensate) {
   const std::size_t n = ds.png_paths.size();
   std::vector<RadarFeatures> out(n);

@@ -10,7 +10,8 @@
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "support/test_data.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::radar;
+using namespace coral_introspection::eval;
 
 namespace {
 constexpr int64_t kT0 = 1547131046353776;  // [us]

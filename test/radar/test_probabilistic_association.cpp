@@ -7,7 +7,8 @@
 #include "coral_introspection/radar/probabilistic_association.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
 
 namespace {
 RadarNoiseConfig noise(double sigma_range, double sigma_azimuth) {

@@ -8,7 +8,8 @@
 #include "coral_introspection/coral/entropy.hpp"
 #include "coral_introspection/radar/radar_uncertainty.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
 
 namespace {
 

@@ -8,7 +8,8 @@
 #include "coral_introspection/radar/polar_scan.hpp"
 #include "coral_introspection/radar/rip_features.hpp"
 
-using namespace coral_introspection::core;
+using namespace coral_introspection::coral;
+using namespace coral_introspection::radar;
 
 namespace {
 // Straightforward k-strongest: every bin >= z_min, strongest first (lower bin on ties).

@@ -80,7 +80,7 @@ struct HeightRun {
   std::vector<FrameReport> reports;
 };
 
-HeightRun runHeight(const core::RioSimConfig& sim, const core::RioSequence& seq, bool baro,
+HeightRun runHeight(const eval::RioSimConfig& sim, const eval::RioSequence& seq, bool baro,
                     double pitch_error) {
   RioConfig cfg;
   cfg.extrinsics = sim.extrinsics;
@@ -95,7 +95,7 @@ HeightRun runHeight(const core::RioSimConfig& sim, const core::RioSequence& seq,
   auto add = [&](const std::vector<FrameReport>& r) {
     out.reports.insert(out.reports.end(), r.begin(), r.end());
   };
-  core::replay(
+  eval::replay(
       seq, [&](const ImuSample& s) { add(est.addImu(s)); },
       [&](const RadarFrame& f) { add(est.addRadar(f)); },
       [&](const BaroSample& b) { est.addBaro(b); });
@@ -116,16 +116,16 @@ HeightRun runHeight(const core::RioSimConfig& sim, const core::RioSequence& seq,
 class BarometerDrive : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    sim_ = core::RioSimConfig::vehicle(1);
+    sim_ = eval::RioSimConfig::vehicle(1);
     sim_.duration = 40.0;  // 3 s at rest, 34 s driving, 3 s at rest
     sim_.barometer = true;
-    seq_ = core::simulateRio(sim_);
+    seq_ = eval::simulateRio(sim_);
   }
-  static core::RioSimConfig sim_;
-  static core::RioSequence seq_;
+  static eval::RioSimConfig sim_;
+  static eval::RioSequence seq_;
 };
-core::RioSimConfig BarometerDrive::sim_;
-core::RioSequence BarometerDrive::seq_;
+eval::RioSimConfig BarometerDrive::sim_;
+eval::RioSequence BarometerDrive::seq_;
 
 }  // namespace
 
@@ -149,7 +149,7 @@ TEST_F(BarometerDrive, PitchedRadarDriftsInHeightWithoutTheBarometerNotWithIt) {
 }
 
 TEST_F(BarometerDrive, EnabledWithoutSamplesIsTheOdometryWithoutIt) {
-  core::RioSequence no_baro;  // the first 12 s, without the barometer's samples
+  eval::RioSequence no_baro;  // the first 12 s, without the barometer's samples
   for (const ImuSample& s : seq_.imu)
     if (s.t <= 12.0) no_baro.imu.push_back(s);
   for (std::size_t k = 0; k < seq_.radar.size() && seq_.radar[k].t <= 12.0; ++k) {
@@ -164,15 +164,15 @@ TEST_F(BarometerDrive, EnabledWithoutSamplesIsTheOdometryWithoutIt) {
 }
 
 TEST(RioBarometer, SequenceFileKeepsTheBarometer) {
-  core::RioSequence seq;
+  eval::RioSequence seq;
   seq.imu.push_back({0.0, Vec3(0, 0, 9.81), Vec3::Zero()});
   seq.baro.push_back({0.01, 100183.25});
   seq.imu.push_back({0.02, Vec3(0, 0, 9.81), Vec3::Zero()});
   const std::string path = testing::TempDir() + "/baro.seq";
   std::string err;
-  ASSERT_TRUE(core::writeRioSequence(path, seq, &err)) << err;
-  core::RioSequence back;
-  ASSERT_TRUE(core::readRioSequence(path, &back, &err)) << err;
+  ASSERT_TRUE(eval::writeRioSequence(path, seq, &err)) << err;
+  eval::RioSequence back;
+  ASSERT_TRUE(eval::readRioSequence(path, &back, &err)) << err;
   ASSERT_EQ(back.baro.size(), 1u);
   EXPECT_NEAR(back.baro[0].t, 0.01, 1e-9);
   EXPECT_NEAR(back.baro[0].pressure, 100183.25, 1e-6);

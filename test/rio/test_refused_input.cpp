@@ -23,7 +23,7 @@ struct RunResult {
   }
 };
 
-RunResult run(const core::RioSimConfig& sim, const core::RioSequence& seq) {
+RunResult run(const eval::RioSimConfig& sim, const eval::RioSequence& seq) {
   rio::RioConfig cfg;
   cfg.extrinsics = sim.extrinsics;
   cfg.uncertainty.noise = sim.point_noise;
@@ -32,7 +32,7 @@ RunResult run(const core::RioSimConfig& sim, const core::RioSequence& seq) {
   auto add = [&](const std::vector<rio::FrameReport>& r) {
     out.reports.insert(out.reports.end(), r.begin(), r.end());
   };
-  core::replay(
+  eval::replay(
       seq, [&](const rio::ImuSample& s) { add(est.addImu(s)); },
       [&](const rio::RadarFrame& f) { add(est.addRadar(f)); });
   out.counters = est.counters();
@@ -43,16 +43,16 @@ RunResult run(const core::RioSimConfig& sim, const core::RioSequence& seq) {
 class RefusedInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    sim_ = core::RioSimConfig::handheld(1);
+    sim_ = eval::RioSimConfig::handheld(1);
     sim_.duration = 20.0;  // 5 s at rest, the motion, 5 s at rest
     // The TI bag's gyro bias at rest (|b| 0.0077 rad/s = 0.44 deg/s): read in deg/s it is
     // twice the health/max_gyro_bias bound. (The simulator's default, 0.0037 rad/s, would
     // sit at the bound: a gyro that good in deg/s is not told from the mean rate.)
     sim_.gyro_bias = rio::Vec3(-0.0009, -0.0007, -0.0076);
-    seq_ = core::simulateRio(sim_);
+    seq_ = eval::simulateRio(sim_);
   }
-  core::RioSimConfig sim_;
-  core::RioSequence seq_;
+  eval::RioSimConfig sim_;
+  eval::RioSequence seq_;
 };
 
 }  // namespace
@@ -113,7 +113,7 @@ TEST_F(RefusedInput, ImuGapWhileMovingIsBridgedNotFrozen) {
   double truth = 0.0, got = 0.0;
   for (std::size_t k = 1; k < gap.size(); ++k) {
     truth +=
-        (core::simulatedPose(sim_, gap[k].t).p - core::simulatedPose(sim_, gap[k - 1].t).p).norm();
+        (eval::simulatedPose(sim_, gap[k].t).p - eval::simulatedPose(sim_, gap[k - 1].t).p).norm();
     got += (gap[k].state.p - gap[k - 1].state.p).norm();
   }
   EXPECT_GT(truth, 1.0);

@@ -8,8 +8,8 @@
 
 #include <cstdlib>
 
-#include "coral_introspection/ros/check_alignment.hpp"
 #include "coral_introspection/ros/conversions.hpp"
+#include "coral_introspection/ros/coral_check_alignment.hpp"
 
 using namespace coral_introspection;
 using ros_adapters::InputType;
@@ -33,7 +33,7 @@ sensor_msgs::Image ringImage(double stamp) {
 
 // A small float32 cloud: a 10 x 10 x 4 grid of 0.2 m.
 sensor_msgs::PointCloud2 gridCloud(double stamp) {
-  core::Points pts;
+  coral::Points pts;
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j)
       for (int k = 0; k < 4; ++k) pts.emplace_back(0.2 * i, 0.2 * j, 0.2 * k);

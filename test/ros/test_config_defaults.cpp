@@ -15,7 +15,7 @@
 #include <set>
 #include <sstream>
 
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 
 using namespace coral_introspection;
 using ros_adapters::NodeConfig;
@@ -38,21 +38,21 @@ struct RangedParam {
 std::vector<RangedParam> rangedParams() {
   return {
       {"classifier_threshold", &Reconfigure::classifier_threshold,
-       core::ClassifierConfig().threshold,
+       coral::ClassifierConfig().threshold,
        [](double v) {
-         core::ClassifierConfig c;
+         coral::ClassifierConfig c;
          c.threshold = v;
          return c.validate();
        }},
-      {"coral_radius", &Reconfigure::coral_radius, core::CoralConfig().radius,
+      {"coral_radius", &Reconfigure::coral_radius, coral::CoralConfig().radius,
        [](double v) {
-         core::CoralConfig c;
+         coral::CoralConfig c;
          c.radius = v;
          return c.validate();
        }},
-      {"coral_min_overlap", &Reconfigure::coral_min_overlap, core::CoralConfig().min_overlap,
+      {"coral_min_overlap", &Reconfigure::coral_min_overlap, coral::CoralConfig().min_overlap,
        [](double v) {
-         core::CoralConfig c;
+         coral::CoralConfig c;
          c.min_overlap = v;
          return c.validate();
        }},
@@ -165,7 +165,7 @@ std::string describe(const NodeConfig& c) {
     << "\nclassifier.beta1 = " << c.online.verdict.classifier.beta1
     << "\nclassifier.beta2 = " << c.online.verdict.classifier.beta2
     << "\nclassifier.threshold = " << c.online.verdict.classifier.threshold
-    << "\nclassifier.method = " << core::verdictMethodName(c.online.verdict.method)
+    << "\nclassifier.method = " << coral::verdictMethodName(c.online.verdict.method)
     << "\nclassifier.relative_margin = " << c.online.verdict.relative.margin
     << "\nclassifier.flat_ratio = " << c.online.verdict.relative.flat_ratio
     << "\nclassifier.probe_queries = " << c.online.verdict.relative.probe_queries

@@ -62,7 +62,7 @@ TEST(CloudToPoints, ReadsFloat32WithPaddingAndOtherFields) {
                             {"x", PointField::FLOAT32},
                             {"y", PointField::FLOAT32}},
                            [](uint32_t i, std::size_t k) { return k == 1 ? 99.0 : 10.0 * i + k; });
-  core::Points pts;
+  coral::Points pts;
   std::string err;
   ros_adapters::CloudReadStats st;
   ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err, &st)) << err;
@@ -81,7 +81,7 @@ TEST(CloudToPoints, ReadsFloat64AndExtraField) {
                  {"z", PointField::FLOAT64},
                  {"velocity", PointField::FLOAT32}},
                 [](uint32_t i, std::size_t k) { return k == 3 ? -0.5 * i : 1.0 + i + 0.25 * k; });
-  core::Points pts;
+  coral::Points pts;
   std::vector<double> vel;
   std::string err;
   ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err, nullptr, "velocity", &vel)) << err;
@@ -106,7 +106,7 @@ TEST(CloudToPoints, DropsAndCountsNonFinite) {
         if (i == 2 && k == 0) return -inf;
         return 1.0 * i;
       });
-  core::Points pts;
+  coral::Points pts;
   std::string err;
   ros_adapters::CloudReadStats st;
   ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err, &st));
@@ -122,7 +122,7 @@ TEST(CloudToPoints, IntegerFieldsAreRefusedWithTheType) {
   auto c = makeCloud(
       {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"z", PointField::FLOAT32}},
       [](uint32_t i, std::size_t) { return 1.0 * i; });
-  core::Points pts;
+  coral::Points pts;
   std::string err;
   ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err)) << err;
   c.fields[1].datatype = PointField::INT16;
@@ -165,7 +165,7 @@ TEST(CloudToPoints, EveryDatatypeIsReadExactlyOrRefused) {
                           c.fields[extra ? 3 : 1].offset,
                       &f, 4);
         }
-      core::Points pts;
+      coral::Points pts;
       std::vector<double> v;
       std::string err;
       const bool ok = ros_adapters::cloudToPoints(c, &pts, &err, nullptr, "v", &v);
@@ -192,7 +192,7 @@ TEST(CloudToPoints, MissingXyzIsAClearError) {
   const auto c = makeCloud(
       {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"intensity", PointField::FLOAT32}},
       [](uint32_t, std::size_t) { return 1.0; });
-  core::Points pts;
+  coral::Points pts;
   std::string err;
   EXPECT_FALSE(ros_adapters::cloudToPoints(c, &pts, &err));
   EXPECT_NE(err.find("no field 'z'"), std::string::npos) << err;
@@ -203,7 +203,7 @@ TEST(CloudToPoints, TruncatedDataAndFieldOutsidePointAreErrors) {
   auto c = makeCloud(
       {{"x", PointField::FLOAT32}, {"y", PointField::FLOAT32}, {"z", PointField::FLOAT32}},
       [](uint32_t, std::size_t) { return 1.0; });
-  core::Points pts;
+  coral::Points pts;
   std::string err;
   auto short_cloud = c;
   short_cloud.data.resize(c.data.size() - 1);
@@ -222,20 +222,20 @@ TEST(CloudToPoints, TruncatedDataAndFieldOutsidePointAreErrors) {
 TEST(CloudToPoints, EmptyCloudIsValidAndEmpty) {
   sensor_msgs::PointCloud2 c;
   sensor_msgs::PointCloud2Modifier(c).setPointCloud2FieldsByString(1, "xyz");
-  core::Points pts(3, core::Vec3::Ones());
+  coral::Points pts(3, coral::Vec3::Ones());
   std::string err;
   ASSERT_TRUE(ros_adapters::cloudToPoints(c, &pts, &err)) << err;
   EXPECT_TRUE(pts.empty());
 }
 
 TEST(PointsToCloud, RoundTripsWithIntensity) {
-  core::Points pts{core::Vec3(1, 2, 3), core::Vec3(-4, 5.5, 0)};
+  coral::Points pts{coral::Vec3(1, 2, 3), coral::Vec3(-4, 5.5, 0)};
   std::vector<float> inten{7.f, 8.f};
   std_msgs::Header h;
   h.frame_id = "radar";
   const auto c = ros_adapters::pointsToCloud(pts, h, &inten);
   EXPECT_EQ(c.header.frame_id, "radar");
-  core::Points back;
+  coral::Points back;
   std::vector<double> ib;
   std::string err;
   ASSERT_TRUE(ros_adapters::cloudToPoints(c, &back, &err, nullptr, "intensity", &ib));
@@ -245,10 +245,10 @@ TEST(PointsToCloud, RoundTripsWithIntensity) {
 }
 
 TEST(QualityCloud, HoldsValidPointsWithEntropiesAndScanIndex) {
-  core::Scan a, b;
-  a.points = {core::Vec3(0, 0, 0), core::Vec3(1, 0, 0)};
-  b.points = {core::Vec3(2, 0, 0)};
-  core::CoralResult r;
+  coral::Scan a, b;
+  a.points = {coral::Vec3(0, 0, 0), coral::Vec3(1, 0, 0)};
+  b.points = {coral::Vec3(2, 0, 0)};
+  coral::CoralResult r;
   r.per_point.resize(3);
   for (int k = 0; k < 3; ++k) {  // computeCoral fills position and scan of every entry
     r.per_point[k].position = (k < 2 ? a.points[k] : b.points[0]).cast<float>();
@@ -284,14 +284,14 @@ TEST(QualityCloud, HoldsValidPointsWithEntropiesAndScanIndex) {
 }
 
 TEST(ToMessage, InvalidResultIsNeverAligned) {
-  core::CoralResult r;
+  coral::CoralResult r;
   r.valid = false;
   r.h_joint = 1.0;
   r.h_sep = 0.5;
   r.quality = 0.5;
   r.overlap = 0.01;
   r.num_points_a = 10;
-  core::Verdict v;
+  coral::Verdict v;
   v.aligned = true;
   v.probability = 0.9;
   std_msgs::Header h;
@@ -312,18 +312,18 @@ TEST(ToMessage, InvalidResultIsNeverAligned) {
 // name and a transform, flat axes; a verdict without valid neighbours is not "valid" even
 // though CorAl at the pose was.
 TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
-  core::VerdictConfig cfg;
-  cfg.method = core::VerdictMethod::kRelative;
+  coral::VerdictConfig cfg;
+  cfg.method = coral::VerdictMethod::kRelative;
   cfg.tolerance.translation = 0.5;
   cfg.tolerance.rotation_deg = 1.0;
-  const std::vector<core::ToleranceOffset> offsets = core::toleranceOffsets(cfg.tolerance, 2);
-  core::AlignmentVerdict v;
+  const std::vector<coral::ToleranceOffset> offsets = coral::toleranceOffsets(cfg.tolerance, 2);
+  coral::AlignmentVerdict v;
   v.coral.valid = true;
   v.coral.quality = 0.4;
   // Q at the pose 0.4; x- (index 1) is much lower: misaligned, hint x-; yaw hardly changes.
   v.relative =
-      core::decideRelative(0.4, offsets, {0.9, 0.1, 0.8, 0.8, 0.4001, 0.4002}, cfg.relative);
-  core::combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
+      coral::decideRelative(0.4, offsets, {0.9, 0.1, 0.8, 0.8, 0.4001, 0.4002}, cfg.relative);
+  coral::combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v);
   ASSERT_TRUE(v.valid);
   std_msgs::Header h;
   const auto m = ros_adapters::toMessage(v, cfg, h, ros::Time(1.0), ros::Time(2.0));
@@ -341,15 +341,15 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
   EXPECT_TRUE(std::isnan(m.free_space_conflict));  // not measured
 
   // A gated verdict rejected by the free-space term carries the conflict and names the term.
-  core::VerdictConfig gated = cfg;
-  gated.method = core::VerdictMethod::kGated;
+  coral::VerdictConfig gated = cfg;
+  gated.method = coral::VerdictMethod::kGated;
   gated.gate.max_free_space = 0.1;
-  core::AlignmentVerdict fs = v;
-  fs.relative = core::decideRelative(0.4, offsets, {0.9, 0.8, 0.8, 0.8, 0.7, 0.7}, cfg.relative);
+  coral::AlignmentVerdict fs = v;
+  fs.relative = coral::decideRelative(0.4, offsets, {0.9, 0.8, 0.8, 0.8, 0.7, 0.7}, cfg.relative);
   fs.free_space.valid = true;
   fs.free_space.conflict = 0.25;
-  core::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
-                       core::gateTerms(fs));
+  coral::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
+                        coral::gateTerms(fs));
   const auto mf = ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
   EXPECT_TRUE(mf.valid);
   EXPECT_FALSE(mf.aligned);
@@ -363,16 +363,16 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
   fs.free_space.conflict = 0.05;
   fs.constraint.valid = true;
   fs.constraint.weakest = 0.02;
-  core::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
-                       core::gateTerms(fs));
+  coral::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
+                        coral::gateTerms(fs));
   const auto mc = ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
   EXPECT_FALSE(mc.aligned);
   EXPECT_DOUBLE_EQ(mc.constraint, 0.02);
   EXPECT_NE(mc.rejected_by.find("constraint 0.02 < 0.3"), std::string::npos) << mc.rejected_by;
 
-  core::AlignmentVerdict none;  // CorAl valid, no valid neighbour: no verdict
+  coral::AlignmentVerdict none;  // CorAl valid, no valid neighbour: no verdict
   none.coral.valid = true;
-  core::combineVerdict(cfg.method, none.classifier, none.relative, cfg.relative, &none);
+  coral::combineVerdict(cfg.method, none.classifier, none.relative, cfg.relative, &none);
   const auto n = ros_adapters::toMessage(none, cfg, h, ros::Time(1.0), ros::Time(2.0));
   EXPECT_FALSE(n.valid);
   EXPECT_FALSE(n.aligned);
@@ -382,13 +382,13 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
 }
 
 TEST(Transforms, RoundTripAndRejectBadQuaternion) {
-  const Eigen::Isometry3d T = core::se2(1.0, -2.0, 0.7) * Eigen::Translation3d(0, 0, 0.3);
+  const Eigen::Isometry3d T = coral::se2(1.0, -2.0, 0.7) * Eigen::Translation3d(0, 0, 0.3);
   const geometry_msgs::Transform m = ros_adapters::toTransformMsg(T);
   Eigen::Isometry3d back;
   std::string err;
   ASSERT_TRUE(ros_adapters::toEigen(m, &back, &err)) << err;
   EXPECT_TRUE(back.isApprox(T, 1e-12));
-  EXPECT_NEAR((back * core::Vec3(1, 0, 0) - T * core::Vec3(1, 0, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((back * coral::Vec3(1, 0, 0) - T * coral::Vec3(1, 0, 0)).norm(), 0.0, 1e-12);
   geometry_msgs::Transform zero;  // all-zero quaternion: a common uninitialised request
   EXPECT_FALSE(ros_adapters::toEigen(zero, &back, &err));
   EXPECT_NE(err.find("unit quaternion"), std::string::npos) << err;

@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "coral_introspection/AlignmentQuality.h"
-#include "coral_introspection/ros/diagnostics.hpp"
-#include "coral_introspection/ros/scan_source.hpp"
+#include "coral_introspection/ros/coral_diagnostics.hpp"
+#include "coral_introspection/ros/coral_scan_source.hpp"
 
 using coral_introspection::AlignmentQuality;
 using namespace coral_introspection::ros_adapters;

@@ -1,7 +1,7 @@
 // Parameter loading and validation of CoralNodelet (no ROS master: XmlRpc trees).
 #include <gtest/gtest.h>
 
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 
 using namespace coral_introspection;
 using XmlRpc::XmlRpcValue;
@@ -20,11 +20,11 @@ TEST(Params, EmptyTreeGivesCoreDefaults) {
   ASSERT_TRUE(ros_adapters::loadNodeConfig(XmlRpcValue(), &c, &err)) << err;
   EXPECT_EQ(c.input_type, ros_adapters::InputType::kPointCloud);
   EXPECT_EQ(c.fixed_frame, "odom");
-  EXPECT_DOUBLE_EQ(c.online.coral.radius, core::CoralConfig().radius);
-  EXPECT_DOUBLE_EQ(c.online.verdict.classifier.beta0, core::ClassifierConfig().beta0);
-  EXPECT_EQ(c.rip.k, core::RipConfig().k);
-  EXPECT_EQ(c.online.deskew.window, core::DeskewConfig().window);
-  EXPECT_EQ(c.online.doppler.check.seed, core::DopplerConfig().seed);
+  EXPECT_DOUBLE_EQ(c.online.coral.radius, coral::CoralConfig().radius);
+  EXPECT_DOUBLE_EQ(c.online.verdict.classifier.beta0, coral::ClassifierConfig().beta0);
+  EXPECT_EQ(c.rip.k, radar::RipConfig().k);
+  EXPECT_EQ(c.online.deskew.window, radar::DeskewConfig().window);
+  EXPECT_EQ(c.online.doppler.check.seed, radar::DopplerConfig().seed);
 }
 
 TEST(Params, ReadsNestedValuesOfEveryType) {
@@ -57,12 +57,12 @@ TEST(Params, ReadsNestedValuesOfEveryType) {
   EXPECT_EQ(c.fixed_frame, "map");
   EXPECT_EQ(c.queue_size, 5);
   EXPECT_DOUBLE_EQ(c.online.coral.radius, 1.0);
-  EXPECT_EQ(c.online.coral.aggregation, core::Aggregation::kMedian);
+  EXPECT_EQ(c.online.coral.aggregation, coral::Aggregation::kMedian);
   EXPECT_TRUE(c.online.coral.dynamic_radius);
   EXPECT_DOUBLE_EQ(c.online.verdict.classifier.beta0, 11.0);
   EXPECT_DOUBLE_EQ(c.online.verdict.classifier.threshold, 0.7);
   EXPECT_EQ(c.polar_format, ros_adapters::PolarFormat::kPlain);
-  EXPECT_EQ(c.polar.direction, core::AzimuthDirection::kClockwise);
+  EXPECT_EQ(c.polar.direction, radar::AzimuthDirection::kClockwise);
   EXPECT_EQ(c.polar.num_azimuths, 400);
   EXPECT_EQ(c.rip.k, 8);
   EXPECT_DOUBLE_EQ(c.online.pairing.min_distance, 2.5);

@@ -1,6 +1,6 @@
 // The README's parameter and diagnostics tables list exactly what the code reads and
-// reports: a parameter added, renamed or removed in params.cpp, or a diagnostics key in
-// diagnostics.cpp, without the README following makes this fail.
+// reports: a parameter added, renamed or removed in coral_params.cpp, or a diagnostics key in
+// coral_diagnostics.cpp, without the README following makes this fail.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/ros/diagnostics.hpp"
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_diagnostics.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 
 using namespace coral_introspection::ros_adapters;
 
@@ -61,8 +61,8 @@ TEST(ReadmeTables, ParameterTableListsEveryParameterRead) {
   const std::set<std::string> code(read.begin(), read.end());
   ASSERT_GT(code.size(), 40u);
   const std::set<std::string> readme = firstCells("**Parameters**", true);
-  EXPECT_EQ(difference(code, readme), "") << "read by params.cpp, missing in README";
-  EXPECT_EQ(difference(readme, code), "") << "in README, not read by params.cpp";
+  EXPECT_EQ(difference(code, readme), "") << "read by coral_params.cpp, missing in README";
+  EXPECT_EQ(difference(readme, code), "") << "in README, not read by coral_params.cpp";
 }
 
 TEST(ReadmeTables, DiagnosticsTableListsEveryKey) {
@@ -76,8 +76,8 @@ TEST(ReadmeTables, DiagnosticsTableListsEveryKey) {
   for (const auto& kv : w.values) code.insert(kv.key);
   ASSERT_GT(code.size(), 30u);
   const std::set<std::string> readme = firstCells("**Diagnostics keys**", false);
-  EXPECT_EQ(difference(code, readme), "") << "reported by diagnostics.cpp, missing in README";
-  EXPECT_EQ(difference(readme, code), "") << "in README, not reported by diagnostics.cpp";
+  EXPECT_EQ(difference(code, readme), "") << "reported by coral_diagnostics.cpp, missing in README";
+  EXPECT_EQ(difference(readme, code), "") << "in README, not reported by coral_diagnostics.cpp";
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 
 #include <algorithm>
 
-#include "coral_introspection/ros/scan_input.hpp"
+#include "coral_introspection/ros/coral_scan_input.hpp"
 
 using namespace coral_introspection;
 

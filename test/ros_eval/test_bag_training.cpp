@@ -17,7 +17,9 @@
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
-namespace core = coral_introspection::core;
+namespace ros_eval = coral_introspection::ros_eval;
+namespace coral = coral_introspection::coral;
+namespace eval = coral_introspection::eval;
 
 static std::string tempBag(const std::string& name) { return coral_test::tempPath(name, ".bag"); }
 
@@ -25,28 +27,30 @@ TEST(BagTraining, OxfordBagMatchesTheFolderReader) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   ros::Time::init();
   const std::string path = tempBag("train_oxford");
-  ra::OxfordBagSummary written;
+  ros_eval::OxfordBagSummary written;
   std::string err;
-  ASSERT_TRUE(ra::writeOxfordBag(coral_data, path, ra::OxfordBagOptions(), &written, &err)) << err;
+  ASSERT_TRUE(
+      ros_eval::writeOxfordBag(coral_data, path, ros_eval::OxfordBagOptions(), &written, &err))
+      << err;
 
-  EXPECT_EQ(ra::bagTopicType(path, "/radar/polar"), "sensor_msgs/Image");
-  EXPECT_EQ(ra::bagTopicType(path, "/nothing"), "");
-  ra::BagTrainingOptions o;
+  EXPECT_EQ(ros_eval::bagTopicType(path, "/radar/polar"), "sensor_msgs/Image");
+  EXPECT_EQ(ros_eval::bagTopicType(path, "/nothing"), "");
+  ros_eval::BagTrainingOptions o;
   o.scan_topic = "/radar/polar";
   o.fixed_frame = "odom";
-  std::vector<core::TrainingScan> scans;
-  core::Isometries poses;
-  ra::BagTrainingSummary sum;
-  ASSERT_TRUE(ra::loadBagTrainingScans(path, o, nullptr, &scans, &poses, &sum, &err)) << err;
+  std::vector<eval::TrainingScan> scans;
+  coral::Isometries poses;
+  ros_eval::BagTrainingSummary sum;
+  ASSERT_TRUE(ros_eval::loadBagTrainingScans(path, o, nullptr, &scans, &poses, &sum, &err)) << err;
   EXPECT_TRUE(sum.radar_images);
   EXPECT_EQ(sum.no_pose, 0u);
   ASSERT_EQ(scans.size(), 11u);
 
-  core::OxfordDataset ds;
+  eval::OxfordDataset ds;
   ASSERT_TRUE(ds.load(coral_data, &err)) << err;
-  std::vector<core::TrainingScan> ref;
-  core::Isometries ref_poses;
-  ASSERT_TRUE(core::loadOxfordTrainingScans(ds, core::OxfordTrainingConfig(), nullptr, &ref,
+  std::vector<eval::TrainingScan> ref;
+  coral::Isometries ref_poses;
+  ASSERT_TRUE(eval::loadOxfordTrainingScans(ds, eval::OxfordTrainingConfig(), nullptr, &ref,
                                             &ref_poses, &err))
       << err;
   for (std::size_t i = 0; i < scans.size(); ++i) {
@@ -65,7 +69,8 @@ TEST(BagTraining, OxfordBagMatchesTheFolderReader) {
 TEST(BagTraining, PointCloudsWithOdometryAndStaticExtrinsic) {
   ros::Time::init();
   const std::string path = tempBag("train_clouds");
-  const Eigen::Isometry3d T_base_lidar = core::se2(0.5, 0.0, 0.0) * Eigen::Translation3d(0, 0, 1.0);
+  const Eigen::Isometry3d T_base_lidar =
+      coral::se2(0.5, 0.0, 0.0) * Eigen::Translation3d(0, 0, 1.0);
   std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> T_odom_base;
   {
     rosbag::Bag bag(path, rosbag::bagmode::Write);
@@ -78,19 +83,19 @@ TEST(BagTraining, PointCloudsWithOdometryAndStaticExtrinsic) {
     st.transforms.push_back(ext);
     bag.write("/tf_static", ros::Time(100.0), st);
     std::mt19937 rng(1);
-    core::LidarModel lidar;
+    eval::LidarModel lidar;
     lidar.azimuths = 180;
     lidar.rings = 4;
     for (int i = 0; i < 4; ++i) {
       const ros::Time t(100.0 + 0.1 * (i + 1));
-      T_odom_base.push_back(core::se2(0.3 * i, 0.1 * i, 0.02 * i));
+      T_odom_base.push_back(coral::se2(0.3 * i, 0.1 * i, 0.02 * i));
       // Odometry at a slightly earlier and later time: the reader interpolates.
       for (double dt : {-0.01, 0.01}) {
         nav_msgs::Odometry od;
         od.header.stamp = t + ros::Duration(dt);
         od.header.frame_id = "odom";
         od.child_frame_id = "base_link";
-        const Eigen::Isometry3d T = T_odom_base.back() * core::se2(dt * 3.0, 0.0, 0.0);
+        const Eigen::Isometry3d T = T_odom_base.back() * coral::se2(dt * 3.0, 0.0, 0.0);
         const geometry_msgs::Transform tr = ra::toTransformMsg(T);
         od.pose.pose.position.x = tr.translation.x;
         od.pose.pose.position.y = tr.translation.y;
@@ -101,24 +106,24 @@ TEST(BagTraining, PointCloudsWithOdometryAndStaticExtrinsic) {
       std_msgs::Header h;
       h.stamp = t;
       h.frame_id = "lidar";
-      const core::Points pts = core::simulateScan(core::SyntheticScene::structuredYard(),
-                                                  T_odom_base.back() * T_base_lidar, lidar, rng);
+      const coral::Points pts = eval::simulateScan(eval::SyntheticScene::structuredYard(),
+                                                   T_odom_base.back() * T_base_lidar, lidar, rng);
       bag.write("/points", t, ra::pointsToCloud(pts, h));
     }
     // A scan before any pose: skipped and counted, not fatal.
     std_msgs::Header h;
     h.stamp = ros::Time(150.0);
     h.frame_id = "lidar";
-    bag.write("/points", h.stamp, ra::pointsToCloud(core::Points{{1, 2, 3}}, h));
+    bag.write("/points", h.stamp, ra::pointsToCloud(coral::Points{{1, 2, 3}}, h));
   }
-  ra::BagTrainingOptions o;
+  ros_eval::BagTrainingOptions o;
   o.scan_topic = "/points";
   o.odom_topic = "/odom";
-  std::vector<core::TrainingScan> scans;
-  core::Isometries poses;
-  ra::BagTrainingSummary sum;
+  std::vector<eval::TrainingScan> scans;
+  coral::Isometries poses;
+  ros_eval::BagTrainingSummary sum;
   std::string err;
-  ASSERT_TRUE(ra::loadBagTrainingScans(path, o, nullptr, &scans, &poses, &sum, &err)) << err;
+  ASSERT_TRUE(ros_eval::loadBagTrainingScans(path, o, nullptr, &scans, &poses, &sum, &err)) << err;
   EXPECT_FALSE(sum.radar_images);
   EXPECT_EQ(sum.scan_messages, 5u);
   EXPECT_EQ(sum.no_pose, 1u);
@@ -131,7 +136,7 @@ TEST(BagTraining, PointCloudsWithOdometryAndStaticExtrinsic) {
     EXPECT_TRUE(scans[i].cfear_points.empty());
   }
   EXPECT_FALSE(
-      ra::loadBagTrainingScans("/nonexistent.bag", o, nullptr, &scans, &poses, &sum, &err));
+      ros_eval::loadBagTrainingScans("/nonexistent.bag", o, nullptr, &scans, &poses, &sum, &err));
   EXPECT_NE(err.find("nonexistent"), std::string::npos);
   std::remove(path.c_str());
 }

@@ -1,7 +1,7 @@
 // Loop-closure candidates of the shared real sequences (eval/loop_candidates.hpp: revisits
 // registered from the odometry, look-alike places registered by ICP from four headings, and
 // on Intel the benchmark's loop relations) judged by the presets' loop-closure verdict
-// (core::loopClosureVerdict: relative check + the loop gate). The figures asserted are the
+// (coral::loopClosureVerdict: relative check + the loop gate). The figures asserted are the
 // ones doc/loop_closure.md reports (coral_loop_eval on the same candidates); the relative
 // check alone accepts several times more false candidates on the same data.
 #include <gtest/gtest.h>
@@ -27,17 +27,17 @@ struct LoopTally {
   int false_accepted_relative = 0;  // the relative check alone
 };
 
-void judge(const ros_adapters::NodeConfig& node, const core::Scan& a, const core::Scan& b,
+void judge(const ros_adapters::NodeConfig& node, const coral::Scan& a, const coral::Scan& b,
            const Eigen::Isometry3d& T_a_b, bool is_true, LoopTally* t) {
   online::IntrospectorConfig loop = node.online, rel = node.online;
-  loop.verdict = core::loopClosureVerdict(node.online.verdict);
-  rel.verdict.method = core::VerdictMethod::kRelative;
-  const core::AlignmentVerdict v = online::judgePair(a, b, T_a_b, loop, false).verdict;
+  loop.verdict = coral::loopClosureVerdict(node.online.verdict);
+  rel.verdict.method = coral::VerdictMethod::kRelative;
+  const coral::AlignmentVerdict v = online::judgePair(a, b, T_a_b, loop, false).verdict;
   const bool accepted = v.valid && v.aligned;
   (is_true ? t->true_total : t->false_total) += 1;
   (is_true ? t->true_accepted : t->false_accepted) += accepted;
   if (!is_true) {
-    const core::AlignmentVerdict r = online::judgePair(a, b, T_a_b, rel, false).verdict;
+    const coral::AlignmentVerdict r = online::judgePair(a, b, T_a_b, rel, false).verdict;
     t->false_accepted_relative += r.valid && r.aligned;
   }
 }
@@ -60,8 +60,8 @@ void expectTally(const LoopTally& t, const Expected& e) {
 }
 
 // The evaluation's candidate settings; under the sanitizers' stride, that many times fewer.
-core::LoopCandidateConfig candidateConfig(int dimension, const core::ToleranceConfig& tol) {
-  core::LoopCandidateConfig c = core::evaluationCandidates(dimension, tol);
+eval::LoopCandidateConfig candidateConfig(int dimension, const coral::ToleranceConfig& tol) {
+  eval::LoopCandidateConfig c = eval::evaluationCandidates(dimension, tol);
   const int s = static_cast<int>(coral_test::pairStride());
   c.max_radius_candidates = std::max(2, c.max_radius_candidates / s);
   c.max_lookalike_pairs = std::max(1, c.max_lookalike_pairs / s);
@@ -80,19 +80,19 @@ TEST(LoopClosure, Lidar3dOnTheLivoxLoop) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_3d", &node);
-  std::vector<core::TrainingScan> scans;
-  core::Isometries ref, odom;
+  std::vector<eval::TrainingScan> scans;
+  coral::Isometries ref, odom;
   std::string err;
-  ASSERT_TRUE(core::loadKeyframeSequence(coral_data, core::KeyframeSequenceConfig(), nullptr,
+  ASSERT_TRUE(eval::loadKeyframeSequence(coral_data, eval::KeyframeSequenceConfig(), nullptr,
                                          &scans, &ref, &err))
       << err;
-  ASSERT_TRUE(core::readKittiPoses(coral_data + "/odom_poses.txt", &odom, &err)) << err;
+  ASSERT_TRUE(eval::readKittiPoses(coral_data + "/odom_poses.txt", &odom, &err)) << err;
   odom.resize(scans.size());
-  const core::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance);
-  std::vector<core::LoopCandidate> cands;
-  ASSERT_TRUE(core::buildLoopCandidates(scans, ref, odom, lc, &cands, &err)) << err;
+  const eval::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance);
+  std::vector<eval::LoopCandidate> cands;
+  ASSERT_TRUE(eval::buildLoopCandidates(scans, ref, odom, lc, &cands, &err)) << err;
   LoopTally t;
-  for (const core::LoopCandidate& c : cands)
+  for (const eval::LoopCandidate& c : cands)
     judge(node, scans[c.a].scan, scans[c.b].scan, c.T_a_b, c.is_true, &t);
   print("lidar_3d, hku1 Livox", t);
   // Measured (doc/loop_closure.md): 39 true, 164 false; loop verdict 39 true, 0 false
@@ -108,16 +108,16 @@ void checkCarmenLoops(const char* label, const std::string& log_path, const std:
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_2d", &node);
   LoopTally t;
-  core::CarmenLoopSet set;
+  eval::CarmenLoopSet set;
   std::string err;
-  ASSERT_TRUE(core::loadCarmenLoopSet(log_path, corrected, relations,
+  ASSERT_TRUE(eval::loadCarmenLoopSet(log_path, corrected, relations,
                                       candidateConfig(2, node.online.verdict.tolerance), 30, 10,
                                       &set, &err))
       << err;
-  for (const core::LoopCandidate& c : set.lookalikes)
+  for (const eval::LoopCandidate& c : set.lookalikes)
     judge(node, set.scans[c.a].scan, set.scans[c.b].scan, c.T_a_b, c.is_true, &t);
   for (std::size_t k = 0; k < set.revisits.size(); k += coral_test::pairStride()) {
-    const core::LoopCandidate& c = set.revisits[k];
+    const eval::LoopCandidate& c = set.revisits[k];
     judge(node, set.rel_scans[c.a].scan, set.rel_scans[c.b].scan, c.T_a_b, c.is_true, &t);
   }
   print(label, t);

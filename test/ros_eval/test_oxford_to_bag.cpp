@@ -18,7 +18,9 @@
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
-namespace core = coral_introspection::core;
+namespace ros_eval = coral_introspection::ros_eval;
+namespace radar = coral_introspection::radar;
+namespace eval = coral_introspection::eval;
 
 static std::string tempBag(const std::string& name) { return coral_test::tempPath(name, ".bag"); }
 
@@ -26,14 +28,15 @@ TEST(OxfordToBag, ImagesAndGroundTruthTfRoundTrip) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   ros::Time::init();
   const std::string path = tempBag("oxford");
-  ra::OxfordBagSummary sum;
+  ros_eval::OxfordBagSummary sum;
   std::string err;
-  ASSERT_TRUE(ra::writeOxfordBag(coral_data, path, ra::OxfordBagOptions(), &sum, &err)) << err;
+  ASSERT_TRUE(ros_eval::writeOxfordBag(coral_data, path, ros_eval::OxfordBagOptions(), &sum, &err))
+      << err;
   EXPECT_EQ(sum.images, 11u);
   EXPECT_EQ(sum.transforms, 11u);
   EXPECT_NEAR(sum.duration_s, 2.491696, 1e-6);
 
-  core::OxfordDataset ds;
+  eval::OxfordDataset ds;
   ASSERT_TRUE(ds.load(coral_data, &err)) << err;
   std::vector<sensor_msgs::Image> images;
   std::vector<geometry_msgs::TransformStamped> tfs;
@@ -72,8 +75,8 @@ TEST(OxfordToBag, ImagesAndGroundTruthTfRoundTrip) {
     const cv::Mat png = cv::imread(ds.png_paths[i], cv::IMREAD_UNCHANGED);
     const cv::Mat wrapped(400, 3779, CV_8UC1, const_cast<uint8_t*>(img.data.data()));
     EXPECT_EQ(cv::norm(png, wrapped, cv::NORM_INF), 0.0);
-    core::PolarScan scan;
-    ASSERT_TRUE(core::decodeOxfordImage(wrapped, &scan, &err)) << err;
+    radar::PolarScan scan;
+    ASSERT_TRUE(radar::decodeOxfordImage(wrapped, &scan, &err)) << err;
     EXPECT_NEAR(scan.stamp, img.header.stamp.toSec(), 1e-6);
 
     EXPECT_EQ(tfs[i].header.frame_id, "odom");
@@ -103,12 +106,12 @@ TEST(OxfordToBag, OptionsRenameTopicsAndFrames) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   ros::Time::init();
   const std::string path = tempBag("oxford_opts");
-  ra::OxfordBagOptions opt;
+  ros_eval::OxfordBagOptions opt;
   opt.image_topic = "/navtech/polar";
   opt.fixed_frame = "map";
   opt.radar_frame = "navtech";
   std::string err;
-  ASSERT_TRUE(ra::writeOxfordBag(coral_data, path, opt, nullptr, &err)) << err;
+  ASSERT_TRUE(ros_eval::writeOxfordBag(coral_data, path, opt, nullptr, &err)) << err;
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   std::size_t n = 0;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/navtech/polar"))) {
@@ -131,15 +134,15 @@ TEST(OxfordToBag, OptionsRenameTopicsAndFrames) {
 TEST(OxfordToBag, BadInputGivesError) {
   ros::Time::init();
   std::string err;
-  EXPECT_FALSE(ra::writeOxfordBag("/nonexistent_folder", tempBag("none"), ra::OxfordBagOptions(),
-                                  nullptr, &err));
+  EXPECT_FALSE(ros_eval::writeOxfordBag("/nonexistent_folder", tempBag("none"),
+                                        ros_eval::OxfordBagOptions(), nullptr, &err));
   EXPECT_NE(err.find("/nonexistent_folder"), std::string::npos) << err;
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
-  ra::OxfordBagOptions opt;
+  ros_eval::OxfordBagOptions opt;
   opt.radar_frame = "odom";  // same as the fixed frame
-  EXPECT_FALSE(ra::writeOxfordBag(coral_data, tempBag("bad"), opt, nullptr, &err));
+  EXPECT_FALSE(ros_eval::writeOxfordBag(coral_data, tempBag("bad"), opt, nullptr, &err));
   EXPECT_NE(err.find("frames"), std::string::npos) << err;
-  EXPECT_FALSE(ra::writeOxfordBag(coral_data, "/nonexistent_dir/x.bag", ra::OxfordBagOptions(),
-                                  nullptr, &err));
+  EXPECT_FALSE(ros_eval::writeOxfordBag(coral_data, "/nonexistent_dir/x.bag",
+                                        ros_eval::OxfordBagOptions(), nullptr, &err));
   EXPECT_NE(err.find("/nonexistent_dir/x.bag"), std::string::npos) << err;
 }

@@ -17,9 +17,9 @@ namespace {
 std::string presetError(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   ros_adapters::NodeConfig node;
-  core::VerdictConfig v;
+  coral::VerdictConfig v;
   std::string err;
-  const bool ok = ros_adapters::loadPresetFile(path, &node, &v, &err);
+  const bool ok = ros_eval::loadPresetFile(path, &node, &v, &err);
   EXPECT_EQ(ok, err.empty()) << err;
   return err;
 }
@@ -31,17 +31,17 @@ TEST(PresetFile, VerdictKeysDefaultsAndErrors) {
   std::ofstream(path) << "input_type: polar_image\ncoral:\n  dimension: 2\n  radius: 2.0\n"
                          "classifier:\n  method: both\n  relative_margin: 0.05\n  beta0: 7\n";
   ros_adapters::NodeConfig node;
-  core::VerdictConfig v;
+  coral::VerdictConfig v;
   std::string err;
-  ASSERT_TRUE(ros_adapters::loadPresetFile(path, &node, &v, &err)) << err;
+  ASSERT_TRUE(ros_eval::loadPresetFile(path, &node, &v, &err)) << err;
   EXPECT_DOUBLE_EQ(node.online.coral.radius, 2.0);
   EXPECT_EQ(node.online.coral.dimension, 2);
-  EXPECT_EQ(v.method, core::VerdictMethod::kBoth);
+  EXPECT_EQ(v.method, coral::VerdictMethod::kBoth);
   EXPECT_DOUBLE_EQ(v.relative.margin, 0.05);
   EXPECT_DOUBLE_EQ(v.classifier.beta0, 7.0);
-  EXPECT_DOUBLE_EQ(v.tolerance.translation, core::ToleranceConfig().translation);  // default
+  EXPECT_DOUBLE_EQ(v.tolerance.translation, coral::ToleranceConfig().translation);  // default
   std::ofstream(path) << "tolerance:\n  translation: 0.2\n  rotation_deg: 3\n";
-  ASSERT_TRUE(ros_adapters::loadPresetFile(path, &node, &v, &err)) << err;
+  ASSERT_TRUE(ros_eval::loadPresetFile(path, &node, &v, &err)) << err;
   EXPECT_DOUBLE_EQ(v.tolerance.translation, 0.2);
   EXPECT_DOUBLE_EQ(v.tolerance.rotation_deg, 3.0);
   EXPECT_NE(presetError(path, "classifier:\n  method: vote\n").find("classifier/method"),
@@ -50,7 +50,7 @@ TEST(PresetFile, VerdictKeysDefaultsAndErrors) {
             std::string::npos);  // validate()'s message names the file
   EXPECT_NE(presetError(path, "coral:\n  radius: -1\n"), "");
   std::remove(path.c_str());
-  EXPECT_FALSE(ros_adapters::loadPresetFile(path, &node, &v, &err));
+  EXPECT_FALSE(ros_eval::loadPresetFile(path, &node, &v, &err));
   EXPECT_EQ(err, "cannot read " + path);
 }
 
@@ -73,24 +73,24 @@ TEST(PresetFile, MisspeltDuplicateAndMistypedKeysFailNamingFileAndLine) {
 // What coral_train and online self-calibration write loads over a preset whose default
 // method is relative and makes the nodelet judge with exactly that classifier and tolerance.
 TEST(PresetFile, WrittenClassifierFileLoadsOverAPreset) {
-  core::ClassifierConfig c;
+  coral::ClassifierConfig c;
   c.beta0 = 7.25;
   c.beta1 = -91.5;
   c.beta2 = 98.125;
   c.threshold = 0.6;
-  core::ToleranceConfig tol;
+  coral::ToleranceConfig tol;
   tol.translation = 0.4;
   tol.rotation_deg = 3.0;
   const std::string written = coral_test::tempPath("classifier", ".yaml");
-  std::ofstream(written) << core::classifierYaml(c, {"test"}, &tol);
+  std::ofstream(written) << coral::classifierYaml(c, {"test"}, &tol);
   ros_adapters::NodeConfig n;
   std::string err;
-  ASSERT_TRUE(ros_adapters::loadPresetFiles(
+  ASSERT_TRUE(ros_eval::loadPresetFiles(
       {std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", written}, &n, &err))
       << err;
   std::remove(written.c_str());
-  const core::VerdictConfig& v = n.online.verdict;
-  EXPECT_EQ(v.method, core::VerdictMethod::kClassifier);  // lidar_3d.yaml says relative
+  const coral::VerdictConfig& v = n.online.verdict;
+  EXPECT_EQ(v.method, coral::VerdictMethod::kClassifier);  // lidar_3d.yaml says relative
   EXPECT_EQ(v.classifier.beta0, 7.25);
   EXPECT_EQ(v.classifier.beta1, -91.5);
   EXPECT_EQ(v.classifier.beta2, 98.125);
@@ -104,15 +104,15 @@ TEST(PresetFile, EveryShippedPresetLoads) {
   for (const char* p : {"lidar_2d", "lidar_3d", "radar_oxford", "radar_mulran", "radar_ti_mmwave",
                         "classifier_radar_oxford"}) {
     ros_adapters::NodeConfig node;
-    core::VerdictConfig v;
+    coral::VerdictConfig v;
     std::string err;
-    EXPECT_TRUE(ros_adapters::loadPresetFile(
-        std::string(CORAL_SOURCE_DIR) + "/config/" + p + ".yaml", &node, &v, &err))
+    EXPECT_TRUE(ros_eval::loadPresetFile(std::string(CORAL_SOURCE_DIR) + "/config/" + p + ".yaml",
+                                         &node, &v, &err))
         << p << ": " << err;
   }
   ros_adapters::NodeConfig node;
   std::string err;
-  EXPECT_TRUE(ros_adapters::loadPresetFiles(
+  EXPECT_TRUE(ros_eval::loadPresetFiles(
       {std::string(CORAL_SOURCE_DIR) + "/config/radar_oxford.yaml",
        std::string(CORAL_SOURCE_DIR) + "/config/classifier_radar_oxford.yaml"},
       &node, &err))

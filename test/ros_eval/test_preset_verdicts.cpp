@@ -6,7 +6,7 @@
 // 24-35 s). Where it does not hold (ACES corridors), each pair is classed by what CorAl
 // itself shows at ground truth (doc/verdict_pairs.md): the test asserts that every pair of
 // the clear class is right and bounds the documented exceptions.
-// CORAL_VERDICT_PAIR_STRIDE=N (scripts/test_sanitizers.sh) judges every N-th pair of each
+// CORAL_VERDICT_PAIR_STRIDE=N (scripts/ci/test_sanitizers.sh) judges every N-th pair of each
 // data set only: the sanitizer build is ~55x slower; the counts measured on all pairs are
 // then replaced by what must hold for any subset (every pair right, every clear pair right).
 #include <gtest/gtest.h>
@@ -52,10 +52,10 @@ enum PairClass {
 };
 const char* const kClassNames[kClasses] = {"clear", "flat axis", "Q order", "no verdict"};
 
-PairClass classify(const core::AlignmentVerdict& gt) {
-  const core::RelativeCheckResult& r = gt.relative;
+PairClass classify(const coral::AlignmentVerdict& gt) {
+  const coral::RelativeCheckResult& r = gt.relative;
   if (!gt.valid || !r.valid) return kNoVerdict;
-  for (const core::AxisProbe& p : r.axes)
+  for (const coral::AxisProbe& p : r.axes)
     for (double qn : {p.q_plus, p.q_minus})
       if (std::isfinite(qn) && qn <= r.q) return kQOrder;
   return r.flat_axes.empty() ? kClear : kFlat;
@@ -75,42 +75,42 @@ struct Tally {
 };
 
 void loadData(const ros_adapters::NodeConfig& node, const std::string& spec_text,
-              core::PairDataset* d) {
+              eval::PairDataset* d) {
   std::string err;
-  core::DatasetSpec spec;
-  ASSERT_TRUE(core::parseDatasetSpec(spec_text, &spec, &err)) << err;
-  core::DatasetOptions opt;
+  eval::DatasetSpec spec;
+  ASSERT_TRUE(eval::parseDatasetSpec(spec_text, &spec, &err)) << err;
+  eval::DatasetOptions opt;
   opt.oxford.rip = node.rip;
   opt.oxford.with_cfear = false;
   opt.oxford.motion_compensation = node.online.deskew.enabled;
-  ASSERT_TRUE(core::loadPairDataset(spec, opt, nullptr, d, &err)) << err;
+  ASSERT_TRUE(eval::loadPairDataset(spec, opt, nullptr, d, &err)) << err;
 }
 
 // Q one tolerance away along `axis` minus Q at ground truth, over the pair's largest axis
 // sensitivity (NaN when not probed).
-double relativeStep(const core::RelativeCheckResult& r, core::Axis axis, int sign) {
-  for (const core::AxisProbe& p : r.axes)
+double relativeStep(const coral::RelativeCheckResult& r, coral::Axis axis, int sign) {
+  for (const coral::AxisProbe& p : r.axes)
     if (p.axis == axis && r.scale > 0.0) return ((sign > 0 ? p.q_plus : p.q_minus) - r.q) / r.scale;
   return std::nan("");
 }
 
 // One line of the per-pair table (doc/verdict_pairs.md) for a pair with a wrong verdict.
-void describe(std::size_t i, const core::PairDataset& d, const core::AlignmentVerdict& gt,
+void describe(std::size_t i, const eval::PairDataset& d, const coral::AlignmentVerdict& gt,
               PairClass cls, const bool ok[5], std::ostream& out) {
-  const core::ScanPair& p = d.pairs[i];
+  const eval::ScanPair& p = d.pairs[i];
   out << "  pair " << i << " (stamps " << std::fixed << std::setprecision(2) << d.scans[p.a].stamp
       << " " << d.scans[p.b].stamp << ") " << kClassNames[cls] << "; wrong:";
   for (int c = 0; c < 5; ++c)
     if (!ok[c]) out << " " << kCases[c] << ";";
   out << " flat:";
-  for (core::Axis a : gt.relative.flat_axes) out << " " << core::axisName(a);
+  for (coral::Axis a : gt.relative.flat_axes) out << " " << coral::axisName(a);
   out << "; Q <= Q(ground truth) at:";
-  for (const core::AxisProbe& a : gt.relative.axes)
+  for (const coral::AxisProbe& a : gt.relative.axes)
     for (int sign : {1, -1})
       if ((sign > 0 ? a.q_plus : a.q_minus) <= gt.relative.q)
-        out << " " << core::axisName(a.axis) << (sign > 0 ? "+" : "-");
-  out << std::setprecision(4) << "; (Q(x+) - Q)/S " << relativeStep(gt.relative, core::Axis::kX, 1)
-      << ", (Q(x-) - Q)/S " << relativeStep(gt.relative, core::Axis::kX, -1) << ", S "
+        out << " " << coral::axisName(a.axis) << (sign > 0 ? "+" : "-");
+  out << std::setprecision(4) << "; (Q(x+) - Q)/S " << relativeStep(gt.relative, coral::Axis::kX, 1)
+      << ", (Q(x-) - Q)/S " << relativeStep(gt.relative, coral::Axis::kX, -1) << ", S "
       << gt.relative.scale << " nats; overlap " << std::setprecision(2) << gt.coral.overlap << "\n"
       << std::defaultfloat;
 }
@@ -119,24 +119,24 @@ void describe(std::size_t i, const core::PairDataset& d, const core::AlignmentVe
 void judgeDataSet(const std::string& preset, const std::string& spec_text, Tally* t) {
   ros_adapters::NodeConfig node;
   coral_test::loadPreset(preset, &node);
-  core::PairDataset d;
+  eval::PairDataset d;
   loadData(node, spec_text, &d);
   if (::testing::Test::HasFatalFailure()) return;
-  const core::VerdictConfig& verdict = node.online.verdict;
+  const coral::VerdictConfig& verdict = node.online.verdict;
   const double m = verdict.tolerance.translation;
-  const core::Vec3 offsets[5] = {{0, 0, 0}, {m, 0, 0}, {-m, 0, 0}, {0, m, 0}, {0, -m, 0}};
+  const coral::Vec3 offsets[5] = {{0, 0, 0}, {m, 0, 0}, {-m, 0, 0}, {0, m, 0}, {0, -m, 0}};
   const std::size_t step = stride();
   for (std::size_t i = 0; i < d.pairs.size(); i += step) {
-    const core::ScanPair& p = d.pairs[i];
+    const eval::ScanPair& p = d.pairs[i];
     ++t->pairs;
-    core::AlignmentVerdict gt;
+    coral::AlignmentVerdict gt;
     bool ok[5];
     for (int c = 0; c < 5; ++c) {
       Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
       delta.translation() = offsets[c];
-      const core::AlignmentVerdict v = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
-                                                         p.T_a_b * delta, node.online, false)
-                                           .verdict;
+      const coral::AlignmentVerdict v = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
+                                                          p.T_a_b * delta, node.online, false)
+                                            .verdict;
       if (c == 0) gt = v;
       ok[c] = v.valid && v.aligned == (c == 0);
       t->right[c] += ok[c];
@@ -166,54 +166,54 @@ TEST(PresetVerdicts, OnlineVerdictEqualsTrainingEvaluation) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("radar_oxford", &node);
-  core::PairDataset d;
+  eval::PairDataset d;
   loadData(node, "oxford:" + coral_data, &d);
   ASSERT_FALSE(::testing::Test::HasFatalFailure());
-  core::VerdictSampleConfig scfg;
+  eval::VerdictSampleConfig scfg;
   scfg.coral = node.online.coral;
   scfg.tolerance = node.online.verdict.tolerance;
-  core::SampleSet set;
+  eval::SampleSet set;
   std::string err;
-  ASSERT_TRUE(core::buildVerdictSamples(d.name, d.scans, d.pairs, scfg, nullptr, &set, &err))
+  ASSERT_TRUE(eval::buildVerdictSamples(d.name, d.scans, d.pairs, scfg, nullptr, &set, &err))
       << err;
-  const std::vector<core::RelativeCheckResult> rel =
-      core::relativeResults(set, node.online.verdict.relative);
-  const std::vector<core::ToleranceOffset> offsets =
-      core::toleranceOffsets(scfg.tolerance, scfg.coral.dimension);
+  const std::vector<coral::RelativeCheckResult> rel =
+      eval::relativeResults(set, node.online.verdict.relative);
+  const std::vector<coral::ToleranceOffset> offsets =
+      coral::toleranceOffsets(scfg.tolerance, scfg.coral.dimension);
   ASSERT_EQ(set.samples.size(), d.pairs.size() * (offsets.size() + 1));
   int misaligned = 0;
-  for (core::VerdictMethod m : {core::VerdictMethod::kClassifier, core::VerdictMethod::kRelative,
-                                core::VerdictMethod::kBoth, core::VerdictMethod::kGated}) {
+  for (coral::VerdictMethod m : {coral::VerdictMethod::kClassifier, coral::VerdictMethod::kRelative,
+                                 coral::VerdictMethod::kBoth, coral::VerdictMethod::kGated}) {
     online::IntrospectorConfig cfg = node.online;
     cfg.verdict.method = m;
     for (std::size_t k = 0; k < set.samples.size(); ++k) {
-      const core::Sample& s = set.samples[k];
+      const eval::Sample& s = set.samples[k];
       const int o = static_cast<int>(k % (offsets.size() + 1)) - 1;  // -1: aligned sample
-      const core::ScanPair& p = d.pairs[s.pair];
+      const eval::ScanPair& p = d.pairs[s.pair];
       const online::PairJudgement j = online::judgePair(
           d.scans[p.a].scan, d.scans[p.b].scan,
           p.T_a_b * (o < 0 ? Eigen::Isometry3d::Identity() : offsets[o].delta), cfg, false);
       SCOPED_TRACE("pair " + std::to_string(s.pair) + " " + (o < 0 ? "aligned" : offsets[o].name) +
-                   " " + core::verdictMethodName(m));
+                   " " + coral::verdictMethodName(m));
       ASSERT_TRUE(j.verdict.valid) << j.reason;
       EXPECT_EQ(j.verdict.coral.h_joint, s.features[0][0]);
       EXPECT_EQ(j.verdict.coral.h_sep, s.features[0][1]);
-      const core::Verdict c =
-          core::classify(cfg.verdict.classifier, s.features[0][0], s.features[0][1]);
+      const coral::Verdict c =
+          coral::classify(cfg.verdict.classifier, s.features[0][0], s.features[0][1]);
       EXPECT_EQ(j.verdict.classifier.probability, c.probability);
-      if (m != core::VerdictMethod::kClassifier) {
+      if (m != coral::VerdictMethod::kClassifier) {
         EXPECT_EQ(j.verdict.relative.score, rel[k].score);
         EXPECT_EQ(j.verdict.relative.misaligned, rel[k].misaligned);
         EXPECT_EQ(j.verdict.relative.hint.name, rel[k].hint.name);
       }
       const bool rel_aligned = !rel[k].misaligned;
-      const core::GateConfig& gate = cfg.verdict.gate;
+      const coral::GateConfig& gate = cfg.verdict.gate;
       const bool gate_passed =
           c.probability >= gate.min_probability && j.verdict.coral.overlap >= gate.min_overlap;
-      const bool expect = m == core::VerdictMethod::kClassifier ? c.aligned
-                          : m == core::VerdictMethod::kRelative ? rel_aligned
-                          : m == core::VerdictMethod::kBoth     ? c.aligned && rel_aligned
-                                                                : rel_aligned && gate_passed;
+      const bool expect = m == coral::VerdictMethod::kClassifier ? c.aligned
+                          : m == coral::VerdictMethod::kRelative ? rel_aligned
+                          : m == coral::VerdictMethod::kBoth     ? c.aligned && rel_aligned
+                                                                 : rel_aligned && gate_passed;
       EXPECT_EQ(j.verdict.aligned, expect);
       misaligned += !j.verdict.aligned;
     }
@@ -282,7 +282,7 @@ TEST(PresetVerdicts, Lidar2dOnTheAcesRelations) {
 
 namespace {
 
-// The preset's verdict at every error of core::sweepErrors (1, 2, 4, 8 tolerances along each
+// The preset's verdict at every error of eval::sweepErrors (1, 2, 4, 8 tolerances along each
 // axis both ways; 5-180 deg of yaw) on every pair:
 // returns the errors accepted and the ground truths rejected, one line each.
 struct SweepTally {
@@ -292,22 +292,22 @@ struct SweepTally {
 void sweepDataSet(const std::string& preset, const std::string& spec_text, SweepTally* t) {
   ros_adapters::NodeConfig node;
   coral_test::loadPreset(preset, &node);
-  core::PairDataset d;
+  eval::PairDataset d;
   loadData(node, spec_text, &d);
   if (::testing::Test::HasFatalFailure()) return;
-  const auto errors = core::sweepErrors(node.online.verdict.tolerance, node.online.coral.dimension);
+  const auto errors = eval::sweepErrors(node.online.verdict.tolerance, node.online.coral.dimension);
   const int pairs0 = t->pairs, errors0 = t->errors, accepted0 = t->errors_accepted,
             rejected0 = t->truths_rejected;  // earlier data sets of the same test
   // Under CORAL_VERDICT_PAIR_STRIDE (the sanitizer build, ~55x slower) one pair per data set:
   // the 58 poses of every Livox pair would take ~2 hours there.
   const std::size_t step = stride() > 1 ? d.pairs.size() : 1;
   for (std::size_t i = 0; i < d.pairs.size(); i += step) {
-    const core::ScanPair& p = d.pairs[i];
+    const eval::ScanPair& p = d.pairs[i];
     ++t->pairs;
-    for (const core::SweepError& e : errors) {
-      const core::AlignmentVerdict v = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
-                                                         p.T_a_b * e.delta, node.online, false)
-                                           .verdict;
+    for (const eval::SweepError& e : errors) {
+      const coral::AlignmentVerdict v = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
+                                                          p.T_a_b * e.delta, node.online, false)
+                                            .verdict;
       t->errors += !e.ground_truth;
       const bool accepted = v.valid && v.aligned;
       if (accepted != e.ground_truth) {

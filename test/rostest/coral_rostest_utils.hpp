@@ -31,20 +31,20 @@ using namespace coral_introspection;
 
 // Sensor pose at time t [s] after the start: 3 m/s forward, turning at 0.3 rad/s.
 inline Eigen::Isometry3d trajectory(double t) {
-  core::Twist v;
-  v.linear = core::Vec3(3.0, 0.0, 0.0);
-  v.angular = core::Vec3(0.0, 0.0, 0.3);
-  return core::se2(-5.0, -1.5, 0.1) * core::constantVelocityPose(v, t);
+  radar::Twist v;
+  v.linear = coral::Vec3(3.0, 0.0, 0.0);
+  v.angular = coral::Vec3(0.0, 0.0, 0.3);
+  return coral::se2(-5.0, -1.5, 0.1) * radar::constantVelocityPose(v, t);
 }
 
 inline sensor_msgs::PointCloud2 lidarCloud(const Eigen::Isometry3d& T_world_sensor,
                                            const ros::Time& stamp, const std::string& frame,
                                            std::mt19937& rng, int rings = 16) {
-  core::LidarModel m;
+  eval::LidarModel m;
   m.rings = rings;
   if (rings == 1) m.v_min_deg = m.v_max_deg = 0.0;
-  const core::Points pts =
-      core::simulateScan(core::SyntheticScene::structuredYard(), T_world_sensor, m, rng);
+  const coral::Points pts =
+      eval::simulateScan(eval::SyntheticScene::structuredYard(), T_world_sensor, m, rng);
   std_msgs::Header h;
   h.stamp = stamp;
   h.frame_id = frame;
@@ -57,7 +57,7 @@ template <class PoseFn>
 sensor_msgs::Image polarImage(PoseFn pose, double t0, const ros::Time& stamp,
                               const std::string& frame, int rows = 400, int bins = 600,
                               double res = 0.1, double period = 0.25) {
-  const auto scene = core::SyntheticScene::structuredYard();
+  const auto scene = eval::SyntheticScene::structuredYard();
   sensor_msgs::Image im;
   im.header.stamp = stamp;
   im.header.frame_id = frame;
@@ -69,7 +69,7 @@ sensor_msgs::Image polarImage(PoseFn pose, double t0, const ros::Time& stamp,
   for (int r = 0; r < rows; ++r) {
     const Eigen::Isometry3d T = pose(t0 + r * period / rows);
     const double az = 2.0 * M_PI * r / rows;
-    const core::Vec3 d = T.linear() * core::Vec3(std::cos(az), std::sin(az), 0.0);
+    const coral::Vec3 d = T.linear() * coral::Vec3(std::cos(az), std::sin(az), 0.0);
     const auto range = scene.castRay(T.translation(), d, res * (bins - 3));
     if (!range) continue;
     const int b = static_cast<int>(std::lround(*range / res));

@@ -19,18 +19,18 @@ constexpr double kPeriod = 0.1;  // [s] between scans (10 Hz 4D radar)
 const std::string kNs = "/radar4d";
 const std::string kFrame = "radar4d";
 // Body velocity of coral_test::trajectory, hence the sensor-frame velocity at every scan.
-const core::Vec3 kTrueVelocity(3.0, 0.0, 0.0);
+const coral::Vec3 kTrueVelocity(3.0, 0.0, 0.0);
 
 // The trajectory with its forward speed scaled (odometry with a speed error).
 Eigen::Isometry3d scaledTrajectory(double t, double speed) {
-  core::Twist v;
-  v.linear = core::Vec3(speed, 0.0, 0.0);
-  v.angular = core::Vec3(0.0, 0.0, 0.3);
-  return core::se2(-5.0, -1.5, 0.1) * core::constantVelocityPose(v, t);
+  radar::Twist v;
+  v.linear = coral::Vec3(speed, 0.0, 0.0);
+  v.angular = coral::Vec3(0.0, 0.0, 0.3);
+  return coral::se2(-5.0, -1.5, 0.1) * radar::constantVelocityPose(v, t);
 }
 
 // x, y, z, velocity (float32) cloud of a simulated Doppler scan.
-sensor_msgs::PointCloud2 dopplerCloud(const core::DopplerSimScan& s, const ros::Time& stamp) {
+sensor_msgs::PointCloud2 dopplerCloud(const eval::DopplerSimScan& s, const ros::Time& stamp) {
   sensor_msgs::PointCloud2 c;
   c.header.stamp = stamp;
   c.header.frame_id = kFrame;
@@ -51,8 +51,8 @@ sensor_msgs::PointCloud2 dopplerCloud(const core::DopplerSimScan& s, const ros::
 
 // |v_Doppler - v_true| [m/s]: 3D and horizontal (vz is the weakly observed component of a
 // radar with a narrow elevation field of view).
-core::Vec3 dopplerError(const VelocityConsistency& m) {
-  return core::Vec3(m.velocity_doppler.x, m.velocity_doppler.y, m.velocity_doppler.z) -
+coral::Vec3 dopplerError(const VelocityConsistency& m) {
+  return coral::Vec3(m.velocity_doppler.x, m.velocity_doppler.y, m.velocity_doppler.z) -
          kTrueVelocity;
 }
 
@@ -90,7 +90,7 @@ class Doppler : public ::testing::Test {
       const ros::Time stamp = base + ros::Duration(t);
       sendTf(br, pose(t), stamp, kFrame);
       ros::WallDuration(0.01).sleep();
-      const auto scan = core::simulateDopplerScan(kTrueVelocity, sim_, rng_);
+      const auto scan = eval::simulateDopplerScan(kTrueVelocity, sim_, rng_);
       const bool drop = std::find(no_field.begin(), no_field.end(), i) != no_field.end();
       if (drop) {
         std_msgs::Header h;
@@ -116,7 +116,7 @@ class Doppler : public ::testing::Test {
 
   ros::NodeHandle nh_;
   ros::Publisher pub_;
-  core::DopplerSimConfig sim_;
+  eval::DopplerSimConfig sim_;
   std::mt19937 rng_{11};
 };
 
@@ -141,7 +141,7 @@ TEST_F(Doppler, ConsistentTfAcceptedSpeedErrorFlaggedMissingFieldSkipped) {
     EXPECT_NEAR(m.velocity_odometry.z, 0.0, 1e-3) << "scan " << i;
     if (m.valid && m.consistent) ++ok;
     if (!m.valid) continue;
-    const core::Vec3 e = dopplerError(m);
+    const coral::Vec3 e = dopplerError(m);
     const double err = e.norm();
     EXPECT_LT(e.head<2>().norm(), 0.1) << "scan " << i;
     if (err < 0.1) ++close;

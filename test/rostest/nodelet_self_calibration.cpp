@@ -27,14 +27,16 @@
 #include "coral_introspection/eval/keyframe_sequence.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros/conversions.hpp"
-#include "coral_introspection/ros/params.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
 #include "coral_rostest_utils.hpp"
 #include "rostest_main.hpp"
 #include "support/test_data.hpp"
 
-namespace core = coral_introspection::core;
+namespace coral = coral_introspection::coral;
+namespace eval = coral_introspection::eval;
 namespace ra = coral_introspection::ros_adapters;
+namespace ros_eval = coral_introspection::ros_eval;
 using coral_introspection::AlignmentQuality;
 
 namespace {
@@ -71,7 +73,7 @@ class Replayer {
   }
 
   // TF odom->livox at the stamp, then the cloud; waits for its AlignmentQuality.
-  bool send(const core::Points& points, const Eigen::Isometry3d& T_odom_livox,
+  bool send(const coral::Points& points, const Eigen::Isometry3d& T_odom_livox,
             const ros::Time& stamp, AlignmentQuality* out) {
     geometry_msgs::TransformStamped t;
     t.header.stamp = stamp;
@@ -105,12 +107,12 @@ class Replayer {
 
 TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
-  core::KeyframeSequenceConfig kc;
+  eval::KeyframeSequenceConfig kc;
   kc.max_scans = 0;
-  std::vector<core::TrainingScan> scans;
-  core::Isometries T_world;
+  std::vector<eval::TrainingScan> scans;
+  coral::Isometries T_world;
   std::string error;
-  ASSERT_TRUE(core::loadKeyframeSequence(coral_data, kc, {}, &scans, &T_world, &error)) << error;
+  ASSERT_TRUE(eval::loadKeyframeSequence(coral_data, kc, {}, &scans, &T_world, &error)) << error;
   ASSERT_GE(scans.size(), static_cast<std::size_t>(kScans + 20));
 
   Replayer replayer;
@@ -179,10 +181,10 @@ TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {
   std::string file;
   ASSERT_TRUE(pnh.getParam("calibration_file", file));
   ra::NodeConfig cfg;
-  ASSERT_TRUE(ra::loadPresetFiles({std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", file},
-                                  &cfg, &error))
+  ASSERT_TRUE(ros_eval::loadPresetFiles(
+      {std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", file}, &cfg, &error))
       << error;
-  EXPECT_EQ(cfg.online.verdict.method, core::VerdictMethod::kClassifier);
+  EXPECT_EQ(cfg.online.verdict.method, coral::VerdictMethod::kClassifier);
   EXPECT_LT(cfg.online.verdict.classifier.beta0, 30.0);  // not the wrong starting point
   int right = 0, total = 0;
   for (int i = kScans + 5; i < kScans + 20; ++i) {

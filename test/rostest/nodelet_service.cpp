@@ -59,7 +59,7 @@ TEST(CheckAlignment, CloudsCorrectVsOffsetTransform) {
   EXPECT_NE(broken.response.error.find("'z'"), std::string::npos) << broken.response.error;
   // Well-formed but 100 m off: judged, no verdict, and the reason is the overlap.
   broken = srv;
-  broken.request.transform_a_b = ros_adapters::toTransformMsg(core::se2(100.0, 0.0, 0.0));
+  broken.request.transform_a_b = ros_adapters::toTransformMsg(coral::se2(100.0, 0.0, 0.0));
   ASSERT_TRUE(call("/lidar/check_alignment", broken));
   EXPECT_FALSE(broken.response.result.valid);
   EXPECT_FALSE(broken.response.result.aligned);

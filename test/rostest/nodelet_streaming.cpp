@@ -11,6 +11,7 @@
 using namespace coral_test;
 using coral_introspection::AlignmentQuality;
 namespace ra = coral_introspection::ros_adapters;
+namespace ros_eval = coral_introspection::ros_eval;
 
 namespace {
 
@@ -50,26 +51,26 @@ class Streaming : public ::testing::Test {
 // unjudged scans are dropped (each with a DROPPED message, counted), latency stays bounded,
 // diagnostics name the drops and do not blame TF.
 TEST_F(Streaming, OverloadDropsOldestScansAndSaysSo) {
-  ra::VerdictMonitor monitor(nh_, "/stream/alignment", "stream/coral");
+  ros_eval::VerdictMonitor monitor(nh_, "/stream/alignment", "stream/coral");
   std::mt19937 rng(1);
-  core::LidarModel m;
+  eval::LidarModel m;
   m.rings = 1;
   m.v_min_deg = m.v_max_deg = 0.0;
-  const core::Points world = core::simulateScan(core::SyntheticScene::structuredYard(),
-                                                Eigen::Isometry3d::Identity(), m, rng);
-  ra::StreamOptions opt;
+  const coral::Points world = eval::simulateScan(eval::SyntheticScene::structuredYard(),
+                                                 Eigen::Isometry3d::Identity(), m, rng);
+  ros_eval::StreamOptions opt;
   opt.topic = "/stream/scan";
   opt.frame = "stream_lidar";
   opt.rate = 30.0;
   opt.speed = 3.0;
-  ra::CloudStreamer streamer(nh_, world, opt);
+  ros_eval::CloudStreamer streamer(nh_, world, opt);
   ASSERT_TRUE(streamer.waitForSubscriber(15.0));
   ros::WallDuration(1.0).sleep();  // TF connections
   monitor.reset();
   const std::size_t sent = streamer.run(3.0);
   ASSERT_TRUE(monitor.waitFor(sent, 10.0)) << monitor.size() << " messages for " << sent;
   ros::WallDuration(1.5).sleep();  // one more diagnostics report
-  const ra::StreamSummary s = monitor.summary();
+  const ros_eval::StreamSummary s = monitor.summary();
   EXPECT_EQ(s.messages, sent) << "one message per scan";
   EXPECT_EQ(s.without_reason, 0u) << "every message without a verdict says why";
   const std::size_t dropped =
@@ -98,7 +99,7 @@ TEST_F(Streaming, OverloadDropsOldestScansAndSaysSo) {
 // While the worker spends 10 s on a pair, check_alignment and /diagnostics answer within
 // 1 s, and the pair is reported as over the time budget while it still runs.
 TEST_F(Streaming, ServiceAndDiagnosticsAnswerWhileAPairRuns) {
-  ra::VerdictMonitor monitor(nh_, "/slow/alignment", "slow/coral");
+  ros_eval::VerdictMonitor monitor(nh_, "/slow/alignment", "slow/coral");
   ros::Publisher pub = nh_.advertise<sensor_msgs::PointCloud2>("/slow/scan", 10);
   ASSERT_TRUE(waitForSubscriber(pub));
   ros::WallDuration(1.0).sleep();
@@ -214,7 +215,7 @@ TEST_F(Streaming, UnstampedScanIsRefusedAndTheNextPairJudged) {
   EXPECT_EQ(next->stamp_a, a);
   EXPECT_TRUE(next->aligned);
   // Counted and named in diagnostics too.
-  ra::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
+  ros_eval::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
   ros::WallDuration(2.2).sleep();
   const auto d = monitor.diagnostics();
   EXPECT_EQ(value(d, "unstamped scans refused"), 1u);
@@ -247,7 +248,7 @@ TEST_F(Streaming, LateTfIsAFailureAndNotJudgedLater) {
   std::size_t of_late = 0;
   for (const auto& m : all.all()) of_late += m.stamp_b == late ? 1 : 0;
   EXPECT_EQ(of_late, 1u) << "the late scan got a second message";
-  ra::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
+  ros_eval::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
   ros::WallDuration(2.2).sleep();
   EXPECT_EQ(value(monitor.diagnostics(), "late scans (TF after tf_timeout)"), 1u);
 }
@@ -273,7 +274,7 @@ TEST_F(Streaming, IntegerPointFieldsAreRefused) {
   ASSERT_TRUE(m);
   EXPECT_EQ(m->status, AlignmentQuality::REFUSED);
   EXPECT_NE(m->reason.find("field 'x' is int16"), std::string::npos) << m->reason;
-  ra::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
+  ros_eval::VerdictMonitor monitor(nh_, "/lidar/alignment", "lidar/coral");
   ros::WallDuration(2.2).sleep();
   const auto d = monitor.diagnostics();
   EXPECT_GE(value(d, "bad inputs"), 1u);

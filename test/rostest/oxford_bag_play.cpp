@@ -18,13 +18,16 @@
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
+namespace ros_eval = coral_introspection::ros_eval;
 
 TEST(OxfordBagPlay, RosbagPlayDeliversImagesAndTf) {
   CORAL_REQUIRE_DATA("oxford_radar_tiny");
   const std::string bag = coral_test::tempPath("oxford_play", ".bag");
   std::string err;
-  ASSERT_TRUE(ra::writeOxfordBag(coral_data, bag, ra::OxfordBagOptions(), nullptr, &err)) << err;
-  coral_introspection::core::OxfordDataset ds;
+  ASSERT_TRUE(
+      ros_eval::writeOxfordBag(coral_data, bag, ros_eval::OxfordBagOptions(), nullptr, &err))
+      << err;
+  coral_introspection::eval::OxfordDataset ds;
   ASSERT_TRUE(ds.load(coral_data, &err)) << err;
 
   ros::NodeHandle nh;

@@ -28,6 +28,7 @@
 #include "support/test_data.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
+namespace ros_eval = coral_introspection::ros_eval;
 using coral_introspection::AlignmentQuality;
 
 namespace {
@@ -135,8 +136,9 @@ TEST(OxfordReplay, GroundTruthAlignedAndStepErrorsFlagged) {
   // runs): /radar/polar raw Oxford images + /tf odom->radar from the ground truth.
   const std::string bag_path = coral_test::tempPath("coral_oxford_replay", ".bag");
   std::string error;
-  ra::OxfordBagSummary summary;
-  ASSERT_TRUE(ra::writeOxfordBag(coral_data, bag_path, ra::OxfordBagOptions(), &summary, &error))
+  ros_eval::OxfordBagSummary summary;
+  ASSERT_TRUE(ros_eval::writeOxfordBag(coral_data, bag_path, ros_eval::OxfordBagOptions(), &summary,
+                                       &error))
       << error;
   EXPECT_EQ(summary.images, 11u);
   std::vector<ReplayScan> scans;

@@ -178,7 +178,7 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   EXPECT_EQ(c.diag["callback errors"], "0");
 }
 
-// The bag played twice in a row (`rosbag play -l`; the soak scripts/soak_rio.sh found this):
+// The bag played twice in a row (`rosbag play -l`; the soak scripts/bench/soak_rio.sh found this):
 // the second loop repeats the trigger and scan sequence numbers 40 s earlier. The estimator
 // restarts on the time jump, the trigger matching on the sequence restart, the path with
 // them: the second loop is tracked like the first (before the fix: 14 odometry messages of

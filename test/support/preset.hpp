@@ -12,9 +12,9 @@ namespace coral_test {
 
 inline void loadPreset(const std::string& name,
                        coral_introspection::ros_adapters::NodeConfig* node) {
-  coral_introspection::core::VerdictConfig verdict;
+  coral_introspection::coral::VerdictConfig verdict;
   std::string err;
-  ASSERT_TRUE(coral_introspection::ros_adapters::loadPresetFile(
+  ASSERT_TRUE(coral_introspection::ros_eval::loadPresetFile(
       std::string(CORAL_SOURCE_DIR) + "/config/" + name + ".yaml", node, &verdict, &err))
       << err;
 }

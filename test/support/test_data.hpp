@@ -99,7 +99,7 @@ inline DataLookup findData(const std::string& subdir,
 // The data root ("" when absent). Prefer CORAL_REQUIRE_DATA, which also fails when required.
 inline std::string dataDir() { return findData("").path; }
 
-// CORAL_VERDICT_PAIR_STRIDE (scripts/test_sanitizers.sh, whose build is ~55x slower): the
+// CORAL_VERDICT_PAIR_STRIDE (scripts/ci/test_sanitizers.sh, whose build is ~55x slower): the
 // real-data tests judge every N-th pair or candidate only and assert what holds for any
 // subset. 1 (every pair) when unset; a value that is not a positive integer fails the test.
 inline std::size_t pairStride() {

@@ -12,8 +12,8 @@ namespace coral_introspection {
 namespace test {
 
 struct YardPair {
-  core::Scan a, b;  // a in its frame (origin 0), b in its own sensor frame
-  Eigen::Isometry3d T_a_b = core::se2(0.6, 0.2, 0.04);
+  coral::Scan a, b;  // a in its frame (origin 0), b in its own sensor frame
+  Eigen::Isometry3d T_a_b = coral::se2(0.6, 0.2, 0.04);
 };
 
 // rings 1: a planar scanner (elevation 0). a is taken at T_world_a, b at T_world_a * T_a_b;
@@ -21,19 +21,19 @@ struct YardPair {
 inline YardPair yardPair(int rings, unsigned seed = 7,
                          const Eigen::Isometry3d& T_world_a = Eigen::Isometry3d::Identity()) {
   std::mt19937 rng(seed);
-  core::LidarModel lidar;
+  eval::LidarModel lidar;
   lidar.rings = rings;
   if (rings == 1) lidar.v_min_deg = lidar.v_max_deg = 0.0;
   YardPair p;
-  const core::SyntheticScene scene = core::SyntheticScene::structuredYard();
-  p.a.points = core::simulateScan(scene, T_world_a, lidar, rng);
-  p.b.points = core::simulateScan(scene, T_world_a * p.T_a_b, lidar, rng);
+  const eval::SyntheticScene scene = eval::SyntheticScene::structuredYard();
+  p.a.points = eval::simulateScan(scene, T_world_a, lidar, rng);
+  p.b.points = eval::simulateScan(scene, T_world_a * p.T_a_b, lidar, rng);
   return p;
 }
 
 // 2D CorAl at r = 0.5 m with a determinant floor: a planar scan's neighbourhoods are lines.
-inline core::CoralConfig planarYardCoral() {
-  core::CoralConfig c;
+inline coral::CoralConfig planarYardCoral() {
+  coral::CoralConfig c;
   c.dimension = 2;
   c.radius = 0.5;
   c.epsilon = 1e-4;

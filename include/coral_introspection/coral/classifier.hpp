@@ -4,7 +4,7 @@
 #include <string>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct ClassifierConfig {
   // z = beta0 + beta1 x1 + beta2 x2 with x1 = H_joint, x2 = H_sep (Eq. 9). The defaults
@@ -28,5 +28,5 @@ double sigmoid(double z);
 
 Verdict classify(const ClassifierConfig& cfg, double x1, double x2);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -18,7 +18,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct ConstraintResult {
   bool valid = false;  // measured (a pair CorAl could judge)
@@ -40,8 +40,7 @@ struct ConstraintResult {
 // most kMaxQueries points per scan are used (a deterministic stride): bounded work on dense
 // 3D clouds. Never throws; non-finite points are skipped.
 ConstraintResult registrationConstraint(const Points& a, const Points& b_in_a,
-                                        const CoralConfig& coral,
-                                        const ToleranceConfig& tolerance);
+                                        const CoralConfig& coral, const ToleranceConfig& tolerance);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

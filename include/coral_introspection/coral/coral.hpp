@@ -10,7 +10,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 enum class Aggregation { kMean, kMedian };  // CorAl vs CorAl-median (Sec. IV-1c)
 
@@ -166,5 +166,5 @@ void scorePoint(const M& own, const M& other, const CoralConfig& cfg, PointEntro
 // except `seconds` and the input counts.
 void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, CoralResult* res);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

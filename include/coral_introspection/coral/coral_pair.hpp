@@ -16,7 +16,7 @@
 #include "coral_introspection/coral/coral.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 class CoralPair {
  public:
@@ -51,5 +51,5 @@ class CoralPair {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -12,7 +12,7 @@
 #include "coral_introspection/coral/coral.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct UncertainCoralConfig {
   // Entropy, overlap, E_reject, aggregation and dimension settings as in plain CorAl;
@@ -29,5 +29,5 @@ struct UncertainCoralConfig {
 // semi-axis. Never throws; precondition: cfg.validate() is empty.
 CoralResult computeCoralUncertain(const Scan& a, const Scan& b, const UncertainCoralConfig& cfg);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

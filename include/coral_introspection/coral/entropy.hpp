@@ -4,7 +4,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // Running first and second moments of points centred on a query point, in Dim (2 or 3)
 // dimensions. Centring on the query keeps the sums small (no catastrophic cancellation far
@@ -59,5 +59,5 @@ bool differentialEntropy(const Mat3& sigma, int dim, double epsilon, double* h);
 // tools; false for fewer than dim + 1 points or a degenerate set.
 bool entropyOfPoints(const Points& pts, int dim, double epsilon, double* h);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

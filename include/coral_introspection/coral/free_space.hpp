@@ -13,7 +13,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct FreeSpaceConfig {
   // [deg] angular bin of the range images (azimuth; elevation too in 3D). Coarser than the
@@ -53,5 +53,5 @@ FreeSpaceResult freeSpaceConflict(const Points& a, const Vec3& origin_a, const P
                                   const Vec3& origin_b, const Eigen::Isometry3d& T_a_b,
                                   int dimension, const FreeSpaceConfig& cfg);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

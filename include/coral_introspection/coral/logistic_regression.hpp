@@ -9,7 +9,7 @@
 #include "coral_introspection/coral/classifier.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct LogisticRegressionConfig {
   // Sample weights inversely proportional to class frequency (Sec. III-F: "weights of data
@@ -61,5 +61,5 @@ bool fitLogisticRegression(const Eigen::MatrixXd& X, const std::vector<int>& y,
                            const LogisticRegressionConfig& cfg, LogisticModel* model,
                            std::string* error);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -5,7 +5,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct RocPoint {
   double threshold = 0.0;  // classify positive iff score >= threshold
@@ -27,5 +27,5 @@ double auc(const std::vector<double>& scores, const std::vector<int>& labels);
 // ROC curve from (0,0) to (1,1): one point per distinct score, thresholds descending.
 std::vector<RocPoint> rocCurve(const std::vector<double>& scores, const std::vector<int>& labels);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -21,7 +21,7 @@
 #include "coral_introspection/coral/neighbour_grid.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 using Span = NeighbourGrid::Span;
 
@@ -47,5 +47,5 @@ template <int Dim>
 std::size_t momentsNear(const NeighbourGrid& grid, const Vec3& q, double radius, MomentsN<Dim>* a,
                         MomentsN<Dim>* b = nullptr);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

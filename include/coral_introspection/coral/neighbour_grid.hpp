@@ -12,7 +12,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 class NeighbourGrid {
  public:
@@ -229,5 +229,5 @@ class NeighbourGrid {
   std::size_t far_used_ = 0;
 };
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

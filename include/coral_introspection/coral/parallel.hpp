@@ -10,7 +10,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // Calls f(begin, end) for every chunk; the calling thread runs the first one. A thread that
 // cannot be started (resource limits) runs its chunk on the caller: never throws for that.
@@ -36,5 +36,5 @@ void parallelChunks(std::size_t n, int threads, F&& f) {
   for (std::thread& t : pool) t.join();
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -11,7 +11,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // A point CorAl may use: every coordinate finite with |c| <= max_abs (false for NaN).
 inline bool isUsablePoint(const Vec3& p, double max_abs) {
@@ -37,5 +37,5 @@ Points strideSubsample(const Points& in, std::size_t max_points);
 // tolerance <= 0 returns the input. Returns the number of points removed.
 std::size_t mergeCoincident(const Points& in, double tolerance, int dim, Points* out);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

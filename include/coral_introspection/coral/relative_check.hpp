@@ -16,7 +16,7 @@
 #include "coral_introspection/coral/tolerance.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 struct RelativeCheckConfig {
   // Per axis k, s_k = (Q - lowest Q of k's two neighbours) / S_k with S_k the mean
@@ -99,5 +99,5 @@ RelativeCheckResult relativeCheck(const CoralPair& pair, const Eigen::Isometry3d
                                   const CoralResult& at_pose_probe, int dimension,
                                   const ToleranceConfig& tolerance, const RelativeCheckConfig& cfg);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -13,7 +13,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // The middle value; for an even size the mean of the two middle values.
 double median(std::vector<double> v);
@@ -24,5 +24,5 @@ double median(std::vector<double> v);
 // should be a measured value, e.g. a residual or a twist component).
 double quantile(std::vector<double> v, double q);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

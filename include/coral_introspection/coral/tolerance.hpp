@@ -10,7 +10,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // Defaults: 3D lidar. The rotation tolerance is the angle that moves a point at the typical
 // range of the sensor's structure by the translation tolerance (d * theta = t), so that
@@ -49,5 +49,5 @@ std::vector<Axis> toleranceAxes(int dimension);
 // Both signs of every axis of toleranceAxes(dimension), axis by axis ("x+", "x-", ...).
 std::vector<ToleranceOffset> toleranceOffsets(const ToleranceConfig& tol, int dimension);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -7,7 +7,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
@@ -31,5 +31,5 @@ Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src);
 // SE(2) pose (x, y, yaw) as an Isometry3d rotating about z.
 Eigen::Isometry3d se2(double x, double y, double yaw);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -6,7 +6,7 @@
 #include <string>
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // Collects "field must be RULE (got VALUE)" messages; str() joins them with "; ".
 class Problems {
@@ -46,5 +46,5 @@ inline bool fail(std::string* error, const std::string& msg) {
   return false;
 }
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -17,7 +17,7 @@
 #include "coral_introspection/coral/tolerance.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 enum class VerdictMethod {
   kClassifier,  // logistic regression on (H_joint, H_sep): 1 CorAl evaluation
@@ -139,5 +139,5 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
 std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments,
                            const ToleranceConfig* tolerance = nullptr);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

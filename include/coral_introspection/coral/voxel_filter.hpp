@@ -6,7 +6,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace coral {
 
 // Replaces the points of every occupied cube of edge `leaf` [m] (dim 2: square in x, y; z
 // is averaged) by their centroid. The output order is a deterministic function of the
@@ -14,5 +14,5 @@ namespace core {
 // unfiltered (no integer overflow). leaf <= 0 returns the input. Points must be finite.
 Points voxelFilter(const Points& in, double leaf, int dim);
 
-}  // namespace core
+}  // namespace coral
 }  // namespace coral_introspection

@@ -26,12 +26,12 @@ struct ScanInput {
   uint64_t id = 0;     // caller's tag, returned in the report (the nodelet: stamp in ns)
   // Points in the sensor frame; radar features also carry per-point stamps (de-skew) and
   // intensity. Lidar: points only.
-  core::RadarFeatures features;
+  radar::RadarFeatures features;
   bool is_radar = false;  // features.stamps are valid: de-skew with the velocity
   // 4D radar: radial velocity per point [m/s] (empty: no Doppler check) and, optionally,
   // the point covariances (sensor frame); empty: from the configured polar noise model.
   std::vector<double> radial_velocity;
-  core::Covariances covariances;
+  coral::Covariances covariances;
   // T_fixed_sensor at `stamp`; nullopt when the pose is unavailable (TF failure): the scan
   // is counted and reported, the stream state is untouched.
   std::optional<Eigen::Isometry3d> T_fixed_sensor;
@@ -51,28 +51,28 @@ struct Counters {
 };
 
 struct DopplerReport {
-  core::ConsistencyResult result;
-  core::Vec3 velocity_odometry = core::Vec3::Zero();  // last inter-scan twist, sensor frame
-  std::size_t num_points = 0;                         // points with a radial velocity
+  radar::ConsistencyResult result;
+  coral::Vec3 velocity_odometry = coral::Vec3::Zero();  // last inter-scan twist, sensor frame
+  std::size_t num_points = 0;                           // points with a radial velocity
 };
 
 // CorAl + verdict of one pair (the result of judgePair).
 struct PairJudgement {
   // verdict.coral: CorAl at the pose; verdict.classifier / .relative: the opinions behind
   // verdict.aligned (meaningful when verdict.valid).
-  core::AlignmentVerdict verdict;
-  std::string reason;   // why there is no verdict (empty when verdict.valid)
-  core::Scan ref, cur;  // keep_scans: the pair in the reference sensor frame (ref.origin = 0)
+  coral::AlignmentVerdict verdict;
+  std::string reason;    // why there is no verdict (empty when verdict.valid)
+  coral::Scan ref, cur;  // keep_scans: the pair in the reference sensor frame (ref.origin = 0)
   // The pair as the verdict prepared it (filtered clouds, grids, own-cloud moments): more
   // poses of it cost only the other-cloud searches (online self-calibration).
-  std::shared_ptr<const core::CoralPair> prepared;
+  std::shared_ptr<const coral::CoralPair> prepared;
 };
 
 // CorAl of `cur` moved into `ref`'s sensor frame by T_ref_cur, then the verdict at the
-// tolerance (core::judgeAlignment: classifier, relative check or both).
+// tolerance (coral::judgeAlignment: classifier, relative check or both).
 // Both scans in their own sensor frames (origin 0). Computing in the reference frame (not
 // the fixed frame) keeps coordinates small and is exactly what training does.
-PairJudgement judgePair(core::Scan ref, const core::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
+PairJudgement judgePair(coral::Scan ref, const coral::Scan& cur, const Eigen::Isometry3d& T_ref_cur,
                         const IntrospectorConfig& cfg, bool per_point, bool keep_scans = false);
 
 struct Report {
@@ -87,7 +87,7 @@ struct Report {
   PairJudgement pair;     // judged: CorAl, verdict; scans only with ProcessOptions::keep_scans
   std::string reason;     // why there is no verdict for this scan (empty with one)
   bool deskewed = false;  // this radar scan was de-skewed now (else: later, or never)
-  core::RadarFeatures features;  // with keep_features: this scan as de-skewed now
+  radar::RadarFeatures features;  // with keep_features: this scan as de-skewed now
   std::optional<DopplerReport> doppler;
   Counters counters;  // totals after this scan
   bool hasVerdict() const { return judged && pair.verdict.valid; }
@@ -121,7 +121,7 @@ class Introspector {
 
  private:
   struct Held {  // the reference scan
-    core::RadarFeatures features;
+    radar::RadarFeatures features;
     Eigen::Isometry3d T_fixed_sensor = Eigen::Isometry3d::Identity();
     double stamp = 0.0;
     uint64_t id = 0;
@@ -131,9 +131,9 @@ class Introspector {
   void judge(Held& cur, const ProcessOptions& options, Report* report);
 
   struct CalibrationJob {  // a selected pair, as judgePair prepared it
-    std::shared_ptr<const core::CoralPair> pair;
+    std::shared_ptr<const coral::CoralPair> pair;
     Eigen::Isometry3d T_ref_cur = Eigen::Isometry3d::Identity();
-    core::CoralResult at_pose;
+    coral::CoralResult at_pose;
   };
   void updateJudgingConfig();
 
@@ -142,7 +142,7 @@ class Introspector {
   SelfCalibration calibration_;
   std::optional<CalibrationJob> pending_;
   ScanPairing pairing_;
-  core::VelocityHistory velocity_;
+  radar::VelocityHistory velocity_;
   std::optional<Held> reference_;
   Counters counters_;
 };

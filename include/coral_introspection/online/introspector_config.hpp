@@ -19,24 +19,24 @@ namespace online {
 // must explain the radial velocities of the static points.
 struct DopplerCheckConfig {
   bool enabled = false;
-  core::DopplerConfig check;  // thresholds, confidence, sign convention, RANSAC seed
+  radar::DopplerConfig check;  // thresholds, confidence, sign convention, RANSAC seed
   // Weight each point by its propagated position covariance (Eq. 10-12) from the polar
   // noise model below. Without it the bearing noise is unmodelled and the check raises
   // about 3.5 % false alarms at confidence 0.99 instead of 1 % (doppler_eval --synthetic).
   bool point_covariances = true;
   // Polar measurement noise of the 4D radar. Default: an automotive 4D radar (ZF FRGen21
   // of View-of-Delft: 0.2 m range and 1.5 deg angular resolution read as 3 sigma).
-  core::RadarNoiseConfig noise = core::RadarNoiseConfig::vodZfFrgen21();
+  radar::RadarNoiseConfig noise = radar::RadarNoiseConfig::vodZfFrgen21();
   std::string validate() const;  // empty when valid
 };
 
 struct IntrospectorConfig {
   PairingConfig pairing;
-  core::CoralConfig coral;
+  coral::CoralConfig coral;
   // classifier/ (betas, threshold, method, relative_margin, flat_ratio) and tolerance/: the
   // one verdict of coral/verdict.hpp, the same as coral_train evaluates.
-  core::VerdictConfig verdict;
-  core::DeskewConfig deskew;  // radar scans only (per-point stamps)
+  coral::VerdictConfig verdict;
+  radar::DeskewConfig deskew;  // radar scans only (per-point stamps)
   DopplerCheckConfig doppler;
   // calibration/: online self-calibration of the classifier (self_calibration.hpp).
   SelfCalibrationConfig calibration;

@@ -30,7 +30,7 @@ class ScanPairing {
   void setConfig(const PairingConfig& cfg) { cfg_ = cfg; }
   // Decides what to do with a scan at `stamp` [s] whose sensor is at `position` (fixed
   // frame), and updates the reference accordingly (kept only on kTooClose).
-  PairAction offer(double stamp, const core::Vec3& position);
+  PairAction offer(double stamp, const coral::Vec3& position);
   void reset() { has_reference_ = false; }
   double referenceStamp() const { return ref_stamp_; }  // [s], 0 before the first scan
 
@@ -38,7 +38,7 @@ class ScanPairing {
   PairingConfig cfg_;
   bool has_reference_ = false;
   double ref_stamp_ = 0.0;
-  core::Vec3 ref_position_ = core::Vec3::Zero();
+  coral::Vec3 ref_position_ = coral::Vec3::Zero();
 };
 
 }  // namespace online

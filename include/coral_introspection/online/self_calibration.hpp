@@ -7,7 +7,7 @@
 // (H_joint, H_sep at the pose) and one misaligned sample per valid neighbour. The classifier
 // (Eq. 9) is refitted on a bounded set of these samples with the preset's classifier as a
 // Gaussian prior, its AUC is measured on held-out pairs, and it is written as a classifier
-// YAML (core::classifierYaml) that loads as-is later. ROS-free; not thread-safe (the
+// YAML (coral::classifierYaml) that loads as-is later. ROS-free; not thread-safe (the
 // Introspector owns it).
 #pragma once
 
@@ -42,13 +42,13 @@ struct SelfCalibrationConfig {
   // aligned and misaligned samples never straddle the split); deterministic like the fraction.
   double holdout_fraction = 0.25;
   // [-] precision of the Gaussian prior toward the configured classifier, in standardized
-  // coordinates (core::LogisticRegressionConfig::prior_weight). The penalty is quadratic in
+  // coordinates (coral::LogisticRegressionConfig::prior_weight). The penalty is quadratic in
   // the distance to the prior, so a far-off prior (a classifier trained elsewhere, or a wrong
   // one) takes long to fade with a large weight: 1 keeps early fits near a sensible prior
   // and lets a wrong one go within some tens of pairs (doc/self_calibration.md).
   double prior_weight = 1.0;
   // [-] a pair is accepted when the relative check's score (max over axes of s_k, see
-  // core::RelativeCheckConfig) is at most this: every axis' lower neighbour higher than Q at
+  // coral::RelativeCheckConfig) is at most this: every axis' lower neighbour higher than Q at
   // the pose. -0.2 mirrors the verdict margin 0.2: the clear-margin side of "aligned".
   double accept_score = -0.2;
   // Classifier YAML rewritten after each successful refit (atomically: temp file + rename);
@@ -72,18 +72,18 @@ struct CalibrationStatus {
   std::size_t samples = 0, training_samples = 0, heldout_samples = 0;  // currently held
   double heldout_auc = std::numeric_limits<double>::quiet_NaN();       // of the last refit
   bool in_use = false;  // the refitted classifier judges (enough samples, AUC >= min_auc)
-  core::ClassifierConfig classifier;  // last refit (the prior before the first)
-  double seconds = 0.0;               // [s] wall time spent in addPair (evaluations + fits)
-  std::string last_error;             // last refit or write failure
+  coral::ClassifierConfig classifier;  // last refit (the prior before the first)
+  double seconds = 0.0;                // [s] wall time spent in addPair (evaluations + fits)
+  std::string last_error;              // last refit or write failure
 };
 
 class SelfCalibration {
  public:
   // Preconditions: cfg.validate() and prior.validate() are empty.
   SelfCalibration(const SelfCalibrationConfig& cfg = SelfCalibrationConfig(),
-                  const core::ClassifierConfig& prior = core::ClassifierConfig());
+                  const coral::ClassifierConfig& prior = coral::ClassifierConfig());
   // The configured classifier changed: it becomes the prior (samples are kept).
-  void setPrior(const core::ClassifierConfig& prior);
+  void setPrior(const coral::ClassifierConfig& prior);
   // Forgets every sample and the refit (e.g. CorAl settings changed the features).
   void clearSamples();
 
@@ -92,15 +92,15 @@ class SelfCalibration {
   // The extra evaluations of a selected pair (prepared by its verdict: ref in the common
   // frame, cur in its own sensor frame), at_pose = CorAl at T_ref_cur. Accepts or not, then
   // refits. Returns true when the pair was accepted.
-  bool addPair(const core::CoralPair& pair, const Eigen::Isometry3d& T_ref_cur,
-               const core::CoralResult& at_pose, const core::VerdictConfig& verdict);
+  bool addPair(const coral::CoralPair& pair, const Eigen::Isometry3d& T_ref_cur,
+               const coral::CoralResult& at_pose, const coral::VerdictConfig& verdict);
   // The samples of one accepted pair (addPair's second half, also for tests); refits.
   void addAcceptedPair(const CalibrationSample& aligned,
                        const std::vector<CalibrationSample>& misaligned);
 
   const CalibrationStatus& status() const { return status_; }
   // The classifier the verdict should use: the refit when in_use, else the prior.
-  const core::ClassifierConfig& classifier() const {
+  const coral::ClassifierConfig& classifier() const {
     return status_.in_use ? status_.classifier : prior_;
   }
 
@@ -113,10 +113,10 @@ class SelfCalibration {
   void writeYaml();
 
   SelfCalibrationConfig cfg_;
-  core::ClassifierConfig prior_;
+  coral::ClassifierConfig prior_;
   std::deque<PairSamples> pairs_;
   CalibrationStatus status_;
-  core::ToleranceConfig tolerance_;  // of the last pair (written into the YAML)
+  coral::ToleranceConfig tolerance_;  // of the last pair (written into the YAML)
 };
 
 }  // namespace online

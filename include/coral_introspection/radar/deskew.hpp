@@ -18,7 +18,7 @@
 #include "coral_introspection/radar/motion_compensation.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 struct DeskewConfig {
   bool enabled = true;  // radar: de-skew features with the pose-derived velocity
@@ -61,8 +61,8 @@ class VelocityHistory {
 // evaluation): a sequence breaks where the stamp does not increase. nullopt for a scan that
 // is alone in its sequence. stamps and T_fixed_sensor have the same size.
 std::vector<std::optional<Twist>> deskewVelocities(const std::vector<double>& stamps,
-                                                   const Isometries& T_fixed_sensor,
+                                                   const coral::Isometries& T_fixed_sensor,
                                                    const DeskewConfig& cfg = DeskewConfig());
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

@@ -13,7 +13,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 struct DopplerConfig {
   double sigma_doppler = 0.05;     // [m/s] Doppler noise added to every residual variance
@@ -32,8 +32,8 @@ struct DopplerConfig {
 
 struct EgoVelocityResult {
   bool valid = false;
-  Vec3 velocity = Vec3::Zero();        // sensor velocity in the sensor frame [m/s]
-  Mat3 covariance = Mat3::Identity();  // of velocity [m^2/s^2]; planar: (2,2) = +inf
+  coral::Vec3 velocity = coral::Vec3::Zero();        // sensor velocity in the sensor frame [m/s]
+  coral::Mat3 covariance = coral::Mat3::Identity();  // of velocity [m^2/s^2]; planar: (2,2) = +inf
   std::size_t num_points = 0, num_inliers = 0;
   double inlier_ratio = 0, median_residual = 0;  // median |residual| of the inliers [m/s]
   bool planar = false;  // every point has z == 0: velocity.z() unobservable, reported as 0
@@ -43,10 +43,10 @@ struct EgoVelocityResult {
 // RANSAC (minimal sets of 3 points, 2 when planar) then iterated weighted least squares on
 // the inliers with weights 1 / (sigma_doppler^2 + J_k Sigma_k J_k^T) (Eq. 10-12), where
 // Sigma_k = point_cov[k] (sensor frame, e.g. from attachCovariances) if given. Never throws.
-EgoVelocityResult estimateEgoVelocity(const Points& points,
+EgoVelocityResult estimateEgoVelocity(const coral::Points& points,
                                       const std::vector<double>& radial_velocity,
                                       const DopplerConfig& cfg,
-                                      const Covariances* point_cov = nullptr);
+                                      const coral::Covariances* point_cov = nullptr);
 
 struct ConsistencyResult {
   bool valid = false;
@@ -54,7 +54,7 @@ struct ConsistencyResult {
   double chi2 = 0, threshold = 0;  // chi2 <= threshold: consistent
   int dof = 0;                     // 3, or 2 for planar scans
   std::size_t num_inliers = 0;
-  Vec3 velocity_doppler = Vec3::Zero();
+  coral::Vec3 velocity_doppler = coral::Vec3::Zero();
   std::string error;
 };
 
@@ -66,21 +66,22 @@ struct ConsistencyResult {
 // chi-square of the fit when that exceeds 1 (real Doppler noise larger than configured).
 // sensor_velocity_cov (optional, sensor frame, e.g. the odometry's twist covariance) is
 // added to Cov(v_D), as is sigma_reference_velocity^2 I.
-ConsistencyResult checkVelocityConsistency(const Points& points,
+ConsistencyResult checkVelocityConsistency(const coral::Points& points,
                                            const std::vector<double>& radial_velocity,
-                                           const Vec3& sensor_velocity, const DopplerConfig& cfg,
-                                           const Covariances* point_cov = nullptr,
-                                           const Mat3* sensor_velocity_cov = nullptr);
+                                           const coral::Vec3& sensor_velocity,
+                                           const DopplerConfig& cfg,
+                                           const coral::Covariances* point_cov = nullptr,
+                                           const coral::Mat3* sensor_velocity_cov = nullptr);
 
 // Variance of the Eq. 9 residual of a static point p (sensor frame) for the sensor
 // velocity v: sigma_doppler^2 + J Sigma_k J^T with J = v^T (I - d d^T) / |p|, d = p / |p|
 // (Eq. 10-12): only the bearing part of Sigma_k moves the predicted Doppler.
-double dopplerResidualVariance(const Vec3& p, const Vec3& v, const Mat3& point_cov,
-                               double sigma_doppler);
+double dopplerResidualVariance(const coral::Vec3& p, const coral::Vec3& v,
+                               const coral::Mat3& point_cov, double sigma_doppler);
 
 // Quantile of the chi-square distribution with dof degrees of freedom (1 <= dof <= 100):
 // P(X <= x) = p. Used for the consistency threshold.
 double chiSquareQuantile(double p, int dof);
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

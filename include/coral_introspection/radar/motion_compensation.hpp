@@ -6,12 +6,12 @@
 #include "coral_introspection/radar/rip_features.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 // Sensor velocity expressed in the sensor frame: m/s and rad/s.
 struct Twist {
-  Vec3 linear = Vec3::Zero();
-  Vec3 angular = Vec3::Zero();
+  coral::Vec3 linear = coral::Vec3::Zero();
+  coral::Vec3 angular = coral::Vec3::Zero();
 };
 
 // Pose of the sensor at time t relative to its pose at t0 under constant body velocity:
@@ -28,5 +28,5 @@ Twist twistFromRelativePose(const Eigen::Isometry3d& T_prev_curr, double dt);
 // 2D features stay planar when the twist is planar (v_z = w_x = w_y = 0).
 void compensateMotion(const Twist& velocity, double ref_stamp, RadarFeatures* features);
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

@@ -8,7 +8,7 @@
 #include <vector>
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 enum class AzimuthDirection { kCounterClockwise, kClockwise };
 
@@ -69,5 +69,5 @@ bool loadOxfordScan(const std::string& png_path, PolarScan* out, std::string* er
 bool decodePolarImage(const cv::Mat& mono8, const PolarImageConfig& cfg, double stamp,
                       PolarScan* out, std::string* error);
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

@@ -12,7 +12,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 struct ProbabilisticAssociationConfig {
   int dimension = 2;               // 2 (spinning radar, x-y only) or 3
@@ -34,35 +34,35 @@ struct ProbabilisticMatch {
 
 // ln N(x; mean, sigma) over the first dim coordinates (Eq. 13), eigenvalues floored at
 // min_variance. *mahalanobis2 (optional) receives (x - mean)^T sigma^-1 (x - mean).
-double gaussianLogDensity(const Vec3& x, const Vec3& mean, const Mat3& sigma, int dim,
-                          double min_variance, double* mahalanobis2 = nullptr);
+double gaussianLogDensity(const coral::Vec3& x, const coral::Vec3& mean, const coral::Mat3& sigma,
+                          int dim, double min_variance, double* mahalanobis2 = nullptr);
 
 // Landmarks indexed once, queried per measured point. Landmarks and queries share a frame;
 // Sigma must be expressed in that frame (transformScan rotates covariances).
 class ProbabilisticMatcher {
  public:
   // Precondition: cfg.validate() is empty. Non-finite landmarks are never matched.
-  ProbabilisticMatcher(const Points& landmarks, const ProbabilisticAssociationConfig& cfg);
+  ProbabilisticMatcher(const coral::Points& landmarks, const ProbabilisticAssociationConfig& cfg);
   // Eq. 14: argmax over landmarks within the gate of P_k(l); target -1 when none.
-  ProbabilisticMatch match(const Vec3& p, const Mat3& sigma) const;
+  ProbabilisticMatch match(const coral::Vec3& p, const coral::Mat3& sigma) const;
   // Every landmark within the gate of p (Eq. 13 density each), in no particular order.
-  std::vector<ProbabilisticMatch> candidates(const Vec3& p, const Mat3& sigma) const;
+  std::vector<ProbabilisticMatch> candidates(const coral::Vec3& p, const coral::Mat3& sigma) const;
 
  private:
   // Calls fn(landmark index, m^2, ln P_k) for each landmark inside the gate of p.
   template <class Fn>
-  void forEachInGate(const Vec3& p, const Mat3& sigma, Fn&& fn) const;
+  void forEachInGate(const coral::Vec3& p, const coral::Mat3& sigma, Fn&& fn) const;
 
   ProbabilisticAssociationConfig cfg_;
   std::vector<uint32_t> original_;  // landmark index of each finite (gridded) landmark
-  NeighbourGrid grid_;
+  coral::NeighbourGrid grid_;
 };
 
 // Convenience: one match per query (queries[i] with covariances[i]). Returns an empty
 // vector and sets *error on a size mismatch or invalid config; never throws.
-std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
-                                                       const Covariances& covariances,
-                                                       const Points& landmarks,
+std::vector<ProbabilisticMatch> associateProbabilistic(const coral::Points& queries,
+                                                       const coral::Covariances& covariances,
+                                                       const coral::Points& landmarks,
                                                        const ProbabilisticAssociationConfig& cfg,
                                                        std::string* error);
 
@@ -72,11 +72,11 @@ std::vector<ProbabilisticMatch> associateProbabilistic(const Points& queries,
 // it got none). With cfg.ambiguity_ratio > 0, queries with two similarly dense candidates
 // are left out first (ambiguous = true). Empty result and *error on a size mismatch or
 // invalid config.
-std::vector<ProbabilisticMatch> associateOneToOne(const Points& queries,
-                                                  const Covariances& covariances,
-                                                  const Points& landmarks,
+std::vector<ProbabilisticMatch> associateOneToOne(const coral::Points& queries,
+                                                  const coral::Covariances& covariances,
+                                                  const coral::Points& landmarks,
                                                   const ProbabilisticAssociationConfig& cfg,
                                                   std::string* error);
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

@@ -9,7 +9,7 @@
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 // Standard deviations of the polar measurement noise (Eq. 3-4). Units: m, rad.
 struct RadarNoiseConfig {
@@ -36,19 +36,19 @@ struct RadarNoiseConfig {
 // dp/dr, dp/dtheta, dp/dphi of p = r (cos phi cos theta, cos phi sin theta, sin phi).
 // This equals [Omega, -r Omega^ N(Omega)] with the tangent basis N chosen so that
 // delta_Omega = (delta_theta, delta_phi). Note dz/dphi = +r cos(phi).
-Mat3 polarJacobian(const Vec3& p);
+coral::Mat3 polarJacobian(const coral::Vec3& p);
 
 // Sigma_k = A_k diag(sigma_r^2, sigma_theta^2, sigma_phi^2) A_k^T (Eq. 8) in the sensor
 // frame. dim == 2: the point is taken in the xy plane (range and azimuth only); the
 // result has zero z row and column. A point at the sensor origin gets
 // sigma_range^2 * I (direction undefined).
-Mat3 pointCovariance(const Vec3& p, const RadarNoiseConfig& cfg, int dim);
+coral::Mat3 pointCovariance(const coral::Vec3& p, const RadarNoiseConfig& cfg, int dim);
 
 // Fills scan.covariances (one per point) from the polar model. Points must be in the
 // sensor frame of the scan, i.e. call this before transformScan (which then rotates the
 // covariances). Non-finite points get a NaN covariance. Returns false with *error set on
 // an invalid config or dim; never throws.
-bool attachCovariances(Scan& scan, const RadarNoiseConfig& cfg, int dim, std::string* error);
+bool attachCovariances(coral::Scan& scan, const RadarNoiseConfig& cfg, int dim, std::string* error);
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

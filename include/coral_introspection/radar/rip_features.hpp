@@ -8,7 +8,7 @@
 #include "coral_introspection/radar/polar_scan.hpp"
 
 namespace coral_introspection {
-namespace core {
+namespace radar {
 
 // Defaults from Sec. V-A (CorAl-Radar).
 struct RipConfig {
@@ -21,7 +21,7 @@ struct RipConfig {
 };
 
 struct RadarFeatures {
-  Points points;                 // sensor frame, z = 0 (Eq. 8)
+  coral::Points points;          // sensor frame, z = 0 (Eq. 8)
   std::vector<float> intensity;  // region strength S[r] of the peak (mean of 2w+1 bins)
   std::vector<double> stamps;    // [s] time of the point's azimuth
 };
@@ -39,5 +39,5 @@ void kStrongest(const uint8_t* row, int first_bin, int end_bin, int k, double z_
 bool extractRipFeatures(const PolarScan& scan, const RipConfig& cfg, RadarFeatures* out,
                         std::string* error);
 
-}  // namespace core
+}  // namespace radar
 }  // namespace coral_introspection

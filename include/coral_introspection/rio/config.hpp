@@ -26,7 +26,7 @@ struct UncertaintyConfig {
   UncertaintyMode mode = UncertaintyMode::kFull;
   // Polar noise. Default: a TI-class single-chip radar as the authors set it for
   // ColoRadar (sigma_r 0.105 m, sigma_azimuth 0.0089 rad, sigma_elevation 0.0088 rad).
-  core::RadarNoiseConfig noise{0.105, 0.0089, 0.0088};
+  radar::RadarNoiseConfig noise{0.105, 0.0089, 0.0088};
   double covariance_scale = 1.0;  // Sigma <- scale * Sigma (Table II: 2^alpha)
   double isotropic_sigma = 0.1;   // [m] used where the model is switched off
   // How kNoRange / kNoBearing remove their part. false (the paper, Sec. IV-B: "setting sigma_r
@@ -42,12 +42,12 @@ struct UncertaintyConfig {
 };
 
 struct FrontEndConfig {
-  double min_range = 0.25;      // [m]
-  double max_range = 100.0;     // [m]
-  double max_azimuth = 1.57;    // [rad] |azimuth| in the radar frame
-  double max_elevation = 1.57;  // [rad] |elevation|
-  double min_intensity = -1e9;  // points below are dropped (when intensity is given)
-  core::DopplerConfig doppler;  // RANSAC consensus of the static points
+  double min_range = 0.25;       // [m]
+  double max_range = 100.0;      // [m]
+  double max_azimuth = 1.57;     // [rad] |azimuth| in the radar frame
+  double max_elevation = 1.57;   // [rad] |elevation|
+  double min_intensity = -1e9;   // points below are dropped (when intensity is given)
+  radar::DopplerConfig doppler;  // RANSAC consensus of the static points
   // Fallback when the consensus fails: static = |m - d^T v_predicted| below this [m/s].
   double static_threshold = 0.3;
   // Standing radar: zero velocity consistent with the Doppler fit (chi-square test) and

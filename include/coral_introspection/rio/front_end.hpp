@@ -1,6 +1,6 @@
 // Radar front end of the odometry: range / field-of-view / intensity filter, the polar
 // covariance of every kept point (Sec. III-B), static points by Doppler consensus (RANSAC
-// of Eq. 9 over the scan, core::fitDoppler), and zero-velocity detection from Doppler.
+// of Eq. 9 over the scan, radar::fitDoppler), and zero-velocity detection from Doppler.
 #pragma once
 
 #include <string>

@@ -41,7 +41,7 @@ class Tracks {
   // Associates the static points of `frame` (radar frame, covariances cov for the gate,
   // whitening W for the residuals) with the tracks, predicted into the frame's radar pose
   // T_world_radar. pose_of gives the current estimate of earlier frames.
-  Stats associate(long frame, const Points& points, const core::Covariances& cov,
+  Stats associate(long frame, const Points& points, const coral::Covariances& cov,
                   const std::vector<Mat3>& W, const Eigen::Isometry3d& T_world_radar,
                   const RadarPoseOf& pose_of, const AssociationConfig& cfg);
   // Tracks with >= min_observations observations become landmarks, initialised at the

@@ -11,7 +11,7 @@
 namespace coral_introspection {
 namespace rio {
 
-using core::Points;
+using coral::Points;
 
 // One IMU sample in the body (IMU) frame. acc: specific force [m/s^2], gyro: [rad/s].
 struct ImuSample {

@@ -38,12 +38,12 @@ bool hasField(const sensor_msgs::PointCloud2& cloud, const std::string& name);
 // non-finite is dropped too. Returns false with *error on a malformed message (missing or integer
 // x/y/z or extra field, data shorter than width * height * point_step, a field outside point_step,
 // big endian data); an empty cloud is valid (zero points).
-bool cloudToPoints(const sensor_msgs::PointCloud2& cloud, core::Points* points, std::string* error,
+bool cloudToPoints(const sensor_msgs::PointCloud2& cloud, coral::Points* points, std::string* error,
                    CloudReadStats* stats = nullptr, const std::string& extra_field = std::string(),
                    std::vector<double>* extra = nullptr);
 
 // x, y, z (+ intensity when given, same size) float32 cloud, one row.
-sensor_msgs::PointCloud2 pointsToCloud(const core::Points& points, const std_msgs::Header& header,
+sensor_msgs::PointCloud2 pointsToCloud(const coral::Points& points, const std_msgs::Header& header,
                                        const std::vector<float>* intensity = nullptr);
 
 // Per-point quality cloud of a CorAl pair: fields x, y, z, q, h_sep, h_joint (float32) and
@@ -53,21 +53,21 @@ sensor_msgs::PointCloud2 pointsToCloud(const core::Points& points, const std_msg
 // points with a valid per-point entropy (overlap, not rejected) are written, so colouring by
 // q shows where the two scans disagree.
 sensor_msgs::PointCloud2 buildQualityCloud(
-    const core::Scan& a, const core::Scan& b, const core::CoralResult& result,
+    const coral::Scan& a, const coral::Scan& b, const coral::CoralResult& result,
     const std_msgs::Header& header,
     const Eigen::Isometry3d& T_header_scans = Eigen::Isometry3d::Identity());
 
 // Verdict message of a pair (status VERDICT, or INVALID_PAIR when !result.valid; reason and
 // latency left to the caller). verdict is used only when result.valid (else aligned = false,
 // probability = 0).
-AlignmentQuality toMessage(const core::CoralResult& result, const core::Verdict& verdict,
+AlignmentQuality toMessage(const coral::CoralResult& result, const coral::Verdict& verdict,
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b);
 
-// Verdict message of a pair judged by core::judgeAlignment (online::judgePair): CorAl at
+// Verdict message of a pair judged by coral::judgeAlignment (online::judgePair): CorAl at
 // the pose, the combined verdict of cfg.method, the tolerance it judged, and the relative
 // check's correction hint and flat axes.
-AlignmentQuality toMessage(const core::AlignmentVerdict& verdict, const core::VerdictConfig& cfg,
+AlignmentQuality toMessage(const coral::AlignmentVerdict& verdict, const coral::VerdictConfig& cfg,
                            const std_msgs::Header& header, const ros::Time& stamp_a,
                            const ros::Time& stamp_b);
 

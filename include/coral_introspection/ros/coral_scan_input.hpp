@@ -1,0 +1,45 @@
+// Turns an input message (PointCloud2, or a polar radar image through the RIP front end)
+// into the Introspector's input: points in the sensor frame, stamp and id from the header.
+// The pose is looked up by the caller. Never throws: errors come back as false + message.
+#pragma once
+
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <string>
+
+#include "coral_introspection/online/introspector.hpp"
+#include "coral_introspection/ros/conversions.hpp"
+#include "coral_introspection/ros/coral_params.hpp"
+
+namespace coral_introspection {
+namespace ros_adapters {
+
+struct SensorScan {
+  online::ScanInput scan;              // no pose yet (T_fixed_sensor unset)
+  std::size_t dropped_non_finite = 0;  // cloud points with NaN/Inf
+};
+
+// "point clouds (input_type pointcloud)" or "polar radar images (input_type polar_image)":
+// what a nodelet of this type judges, for the messages refusing the other kind.
+std::string inputKindName(InputType type);
+
+// PointCloud2 -> points (sensor frame). With doppler/enabled and the cloud holding
+// doppler/velocity_field, the field is read into scan.radial_velocity. A cloud without a
+// finite point is an error (dropped_non_finite still counts its NaN/Inf points).
+bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, SensorScan* out,
+                  std::string* error);
+
+// mono8 polar image -> RIP features (sensor frame, not motion-compensated, is_radar). Row
+// stamps are shifted so that the scan reference time equals the header stamp (the time TF
+// is looked up at), whatever the image's embedded clock (Oxford layout) says. An image
+// without a RIP feature is an error.
+bool toSensorScan(const sensor_msgs::Image& image, const NodeConfig& cfg, SensorScan* out,
+                  std::string* error);
+
+// The Introspector's input for a scan whose pose could not be looked up (TF failure).
+online::ScanInput noPoseInput(const std_msgs::Header& header, const std::string& fixed_frame,
+                              const std::string& error);
+
+}  // namespace ros_adapters
+}  // namespace coral_introspection

@@ -1,0 +1,207 @@
+#!/usr/bin/env bash
+# Mutation check: do the tests fail when the code is wrong? Puts one deliberate one-line bug
+# at a time into a COPY of the tracked sources (the repository is never modified), builds
+# the relevant ROS-free gtests there (plain CMake, -DCORAL_CORE_ONLY=ON, -O1), runs them
+# without the shared data (the copy has no ../shared/data) and, when the data is there, with
+# it ($CORAL_DATA_DIR, else ../shared/data beside the repository), and prints which tests
+# fail. Exit code != 0 when the unmodified copy fails, when a mutation's pattern does not
+# match its file exactly once (a stale pattern fails the check, it is never skipped), when
+# a mutant does not build, or when a mutant fails no test.
+# The copy's build folder is kept between runs (only what a mutation touches is rebuilt);
+# scripts/test.sh runs this check after the format check.
+# Usage: scripts/ci/mutation_check.sh
+#   CORAL_MUTATION_DIR: work folder (default ${CORAL_WS}_mutation, CORAL_WS as in env.sh)
+#   CORAL_BUILD_LOCK: lock file (default /tmp/coral_build.lock), held around the base build
+#     and around each mutant's mutate-build-test-restore cycle; not taken again when a
+#     parent process already holds it (e.g. `flock /tmp/coral_build.lock scripts/test.sh`)
+#     or when CORAL_BUILD_LOCK_HELD=1.
+set -euo pipefail
+REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+WS="${CORAL_WS:-${HOME}/.cache/coral_introspection/ws}"
+WORK="${CORAL_MUTATION_DIR:-${WS}_mutation}"
+SRC="${WORK}/coral_introspection"  # no ../shared/data beside it: the data is absent
+BUILD="${WORK}/build"
+DIRTY="${WORK}/dirty_files"  # copy files whose objects may still be built from a mutant
+LOCK="${CORAL_BUILD_LOCK:-/tmp/coral_build.lock}"
+DATA="${CORAL_DATA_DIR:-${REPO}/../shared/data}"
+[ -d "${DATA}" ] || DATA=""
+
+# name @ file @ perl regex @ replacement (literal) @ test targets. The regex must match its
+# file exactly once; the replacement changes that one line.
+CORAL_TESTS="test_coral_known_answers test_coral"
+MUTATIONS=(
+  "min_overlap gate removed@src/coral/coral.cpp@res->overlap < cfg\.min_overlap\)@false)@${CORAL_TESTS}"
+  "Doppler covariance propagation (Eq. 11-12) removed@src/radar/doppler_fit.cpp@return sigma_doppler \* sigma_doppler \+ J\.dot\(point_cov \* J\);@return sigma_doppler * sigma_doppler + 0 * J.dot(point_cov * J);@test_doppler_covariance test_doppler"
+  "min_neighbours_other default 1@include/coral_introspection/coral/coral.hpp@int min_neighbours_other = 2;@int min_neighbours_other = 1;@${CORAL_TESTS}"
+  "min_neighbours_other ignored (1)@include/coral_introspection/coral/coral.hpp@other\.n >= cfg\.min_neighbours_other@other.n >= 1@${CORAL_TESTS}"
+  "own and other neighbourhoods swapped (all-points path)@src/coral/coral.cpp@scorePoint\(m_own, m_other, cfg, &pe\);@scorePoint(m_other, m_own, cfg, &pe);@${CORAL_TESTS}"
+  "RIP noise floor: peak at z_min kept@src/radar/rip_features.cpp@if \(sr <= s_min\) continue;@if (sr < s_min) continue;@test_rip_features test_polar_scan test_oxford_radar"
+  "free-space margin on the wrong side@src/coral/free_space.cpp@return r <= nearest - margin;@return r <= nearest + margin;@test_free_space"
+)
+
+# One check at a time per work folder (fd 8; the build lock is released between mutants).
+mkdir -p "${WORK}"
+exec 8> "${WORK}.lock"
+if ! flock -n 8; then
+  echo "[mutation] another mutation check uses ${WORK}: waiting for it"
+  flock 8
+fi
+
+# --- the shared build lock (fd 9) -----------------------------------------------------
+lock_held_by_ancestor() {  # true when a parent process holds the flock on ${LOCK}
+  [ -e "${LOCK}" ] && [ -r /proc/locks ] || return 1
+  local inode holders pid
+  inode=$(stat -Lc %i "${LOCK}")
+  holders=$(awk -v ino=":${inode}" '$2 == "FLOCK" && substr($6, length($6) - length(ino) + 1) == ino { print $5 }' /proc/locks)
+  [ -n "${holders}" ] || return 1
+  pid=${PPID}
+  while [ -n "${pid}" ] && [ "${pid}" -gt 1 ]; do
+    grep -qx "${pid}" <<< "${holders}" && return 0
+    pid=$(awk '{ print $4 }' "/proc/${pid}/stat" 2> /dev/null || true)
+  done
+  return 1
+}
+USE_LOCK=1
+if [ "${CORAL_BUILD_LOCK_HELD:-}" = 1 ] || lock_held_by_ancestor; then
+  USE_LOCK=0
+  echo "[mutation] ${LOCK} is held by a parent process: not taken again"
+fi
+[ "${USE_LOCK}" = 0 ] || exec 9>> "${LOCK}"
+lock() { [ "${USE_LOCK}" = 0 ] || flock 9; }
+unlock() { [ "${USE_LOCK}" = 0 ] || flock -u 9; }
+
+# --- restore on any exit ---------------------------------------------------------------
+ACTIVE=""  # the copy file that holds a mutant right now
+restore() {
+  if [ -n "${ACTIVE}" ]; then
+    cp "${REPO}/${ACTIVE}" "${SRC}/${ACTIVE}"  # new mtime: its objects get rebuilt
+    ACTIVE=""
+  fi
+}
+trap 'restore' EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+build() {  # build <targets...>
+  make -C "${BUILD}" -j"$(nproc)" "$@" > "${WORK}/build.log" 2>&1 ||
+    {
+      tail -n 30 "${WORK}/build.log"
+      return 1
+    }
+}
+
+# run_tests <label> <data dir or ""> <targets...>: prints the failed gtests (or "none").
+run_tests() {
+  local label="$1" data="$2"
+  shift 2
+  local regex
+  regex="^($(echo "$@" | tr ' ' '|'))\$"
+  local log="${WORK}/ctest_${label}.log"
+  (
+    cd "${BUILD}"
+    unset CORAL_DATA_DIR CI
+    [ -n "${data}" ] && export CORAL_DATA_DIR="${data}"
+    ctest --output-on-failure -R "${regex}" > "${log}" 2>&1
+  ) || true
+  local failed
+  failed=$(sed -n 's/^\[  FAILED  \] \([A-Za-z0-9_./]*\).*/\1/p' "${log}" | grep -v '^[0-9]*$' |
+    sort -u | tr '\n' ' ' || true)
+  if [ -z "${failed}" ] && ! grep -q "100% tests passed" "${log}"; then
+    failed="(ctest failed, see ${log})"
+  fi
+  echo "${failed:-none}"
+}
+
+all_targets=""
+for m in "${MUTATIONS[@]}"; do all_targets+=" ${m##*@}"; done
+all_targets=$(echo "${all_targets}" | tr ' ' '\n' | sort -u | tr '\n' ' ')
+start=$(date +%s)
+
+lock
+mkdir -p "${BUILD}"
+rm -rf "${SRC}"
+mkdir -p "${SRC}"
+# The working tree's files (tracked, uncommitted edits and new files not ignored: a tracked
+# file may include a new one), with their mtimes, so the kept build folder rebuilds only
+# what changed since the last run...
+(cd "${REPO}" && git ls-files -z --cached --others --exclude-standard |
+  xargs -0 tar --ignore-failed-read -cf - 2> /dev/null) | tar -xf - -C "${SRC}"
+# ...and whatever a mutant had been built from when the last run was interrupted.
+if [ -s "${DIRTY}" ]; then
+  while read -r f; do [ -e "${SRC}/${f}" ] && touch "${SRC}/${f}"; done < "${DIRTY}"
+fi
+# -O1: each mutation rebuilds what includes the changed file; compiling dominates.
+cmake -S "${SRC}" -B "${BUILD}" -DCORAL_CORE_ONLY=ON -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" > "${WORK}/cmake.log"
+# shellcheck disable=SC2086
+if ! build ${all_targets}; then
+  echo "MUTATION CHECK FAILED: the unmodified sources do not build (${WORK}/build.log)"
+  exit 1
+fi
+rm -f "${DIRTY}"
+# shellcheck disable=SC2086
+base_none=$(run_tests base_nodata "" ${all_targets})
+base_data="-"
+# shellcheck disable=SC2086
+[ -n "${DATA}" ] && base_data=$(run_tests base_data "${DATA}" ${all_targets})
+unlock
+if [ "${base_none}" != none ] || { [ "${base_data}" != none ] && [ "${base_data}" != - ]; }; then
+  echo "unmodified sources fail: without data: ${base_none}; with data: ${base_data}"
+  exit 1
+fi
+
+status=0
+rows=()
+for m in "${MUTATIONS[@]}"; do
+  IFS='@' read -r name file pattern replacement targets <<< "${m}"
+  label=$(echo "${name}" | tr -c 'A-Za-z0-9' _)
+  matches=$(PAT="${pattern}" perl -0777 -ne 'my $n = () = /$ENV{PAT}/g; print $n' "${SRC}/${file}")
+  if [ "${matches}" != 1 ]; then
+    rows+=("| ${name} | ${file} | PATTERN MATCHES ${matches} TIMES (must be 1): not applied | |")
+    status=1
+    continue
+  fi
+  lock
+  ACTIVE="${file}"
+  echo "${file}" >> "${DIRTY}"
+  PAT="${pattern}" REPL="${replacement}" perl -pi -e 's/$ENV{PAT}/$ENV{REPL}/' "${SRC}/${file}"
+  changed=$(diff "${REPO}/${file}" "${SRC}/${file}" | grep -c '^>' || true)
+  # shellcheck disable=SC2086
+  if [ "${changed}" != 1 ]; then
+    rows+=("| ${name} | ${file} | mutant changes ${changed} lines (must be 1): not run | |")
+    status=1
+  elif ! build ${targets}; then
+    rows+=("| ${name} | ${file} | DOES NOT BUILD | |")
+    status=1
+  else
+    # shellcheck disable=SC2086
+    no_data=$(run_tests "${label}_nodata" "" ${targets})
+    with_data="(no data)"
+    # shellcheck disable=SC2086
+    [ -n "${DATA}" ] && with_data=$(run_tests "${label}_data" "${DATA}" ${targets})
+    if [ "${no_data}" = none ] && { [ "${with_data}" = none ] || [ "${with_data}" = "(no data)" ]; }; then
+      rows+=("| ${name} | ${targets} | SURVIVED: none | ${with_data} |")
+      status=1
+    else
+      rows+=("| ${name} | ${targets} | ${no_data} | ${with_data} |")
+    fi
+  fi
+  restore  # before the lock is released
+  unlock
+done
+# Leave the copy's build matching the sources.
+lock
+# shellcheck disable=SC2086
+if build ${all_targets}; then rm -f "${DIRTY}"; fi
+unlock
+
+echo "=== mutation check ($(($(date +%s) - start)) s; data: ${DATA:-absent})"
+echo "| mutation | tests run | failing without data | failing with data |"
+echo "|---|---|---|---|"
+for r in "${rows[@]}"; do echo "${r}"; done
+if [ "${status}" -eq 0 ]; then
+  echo "every pattern applied once, every mutation is caught"
+else
+  echo "MUTATION CHECK FAILED (stale pattern, mutant not built or mutation survived)"
+fi
+exit "${status}"

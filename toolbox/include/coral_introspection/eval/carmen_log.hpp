@@ -1,0 +1,82 @@
+// 2D laser logs in CARMEN format (.clf, or .clf.bz2 read through libbz2) with the SLAM
+// benchmark's ground-truth relations (Kuemmerle et al. 2009; ../shared/data/radish_aces):
+// FLASER scans and `.relations` lines "t1 t2 x y z roll pitch yaw", the pose of the scan at
+// t2 in the frame of the scan at t1 (checked on ACES: p_1 = T_1_2 p_2 brings the median
+// nearest-neighbour distance from 0.10 m with the identity to 0.033 m; the inverse gives
+// 0.19 m). t is the FLASER field just before the hostname (ipc_timestamp).
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/eval/training_set.hpp"
+
+namespace coral_introspection {
+namespace eval {
+
+struct CarmenLaserScan {
+  double stamp = 0.0;            // ipc_timestamp [s]
+  std::vector<double> ranges;    // [m], beam i at start_angle + i * angle_increment
+  Eigen::Vector3d laser_pose{};  // x, y, theta of the log (raw odometry) [m, m, rad]
+};
+
+// Beam geometry of the FLASER messages. Defaults: the SICK LMS of the Radish logs, 180
+// beams of 1 deg from -90 deg (checked on ACES: 0.5 deg offsets or a 180/179 deg spacing
+// fit the relations no better). Readings >= max_range are "no return".
+struct LaserGeometry {
+  double start_angle = -M_PI / 2.0;     // [rad] beam 0, counter-clockwise from x
+  double angle_increment = M_PI / 180;  // [rad]
+  double min_range = 0.05;              // [m]
+  double max_range = 49.9;              // [m] (ACES saturates at 50.0 m)
+  std::string validate() const;         // empty when valid
+};
+
+// Every FLASER line, in file order. False with *error on a missing/corrupt file or a
+// malformed FLASER line.
+bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
+                   std::string* error);
+
+// Sensor-frame points (z = 0) of the valid readings.
+coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& geometry);
+
+struct Relation {
+  double t1 = 0.0, t2 = 0.0;
+  Eigen::Isometry3d T_1_2 = Eigen::Isometry3d::Identity();  // p_1 = T_1_2 p_2
+};
+bool readRelations(const std::string& path, std::vector<Relation>* relations, std::string* error);
+// The first log line whose stamp is not below stamp - 1e-4 (relations and corrected poses
+// name scans by stamp to 1e-4 s); log.size() when none. Log order is time order.
+int logLineAt(const std::vector<CarmenLaserScan>& log, double stamp);
+
+// The relations file of a log: LOG.relations for LOG.clf[.bz2] or LOG.log (the benchmark's
+// layout, e.g. aces.clf.bz2 -> aces.relations).
+std::string relationsPath(const std::string& log_path);
+
+// One training scan per FLASER scan a relation refers to (matched by stamp to 1e-4 s) and
+// one pair per relation, in file order (the earlier scan first). Relations whose stamps
+// match no scan are counted in *unmatched and skipped.
+bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Relation>& relations,
+                   const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                   std::vector<ScanPair>* pairs, int* unmatched, std::string* error);
+
+// The loop closures among the benchmark relations of `log`: relations joining scans more
+// than `min_lines` FLASER lines apart (1,245 of Intel's 2,984 at 30), as relationPairs makes
+// them. False with *error on an unreadable relations file.
+bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,
+                       const LaserGeometry& geometry, int min_lines,
+                       std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,
+                       std::string* error);
+
+// A SLAM-corrected trajectory on the raw log
+// (../shared/data/radish_intel/*_corrected_poses_on_raw.csv: "corrected_idx, raw_flaser_idx,
+// raw_ipc_timestamp, x, y, theta", # comments): the scans it covers in log order, their corrected
+// poses (reference) and the log's raw odometry poses (laser_pose), all as planar isometries. False
+// with *error on an unreadable file or an index outside the log.
+bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
+                       const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                       coral::Isometries* T_world_ref, coral::Isometries* T_world_odom,
+                       std::vector<int>* raw_index, std::string* error);
+
+}  // namespace eval
+}  // namespace coral_introspection

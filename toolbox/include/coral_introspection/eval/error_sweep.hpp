@@ -1,0 +1,50 @@
+// Errors of every size a user meets, for judging a verdict beyond one tolerance: the later
+// scan moved by 1, 2, 4 and 8 tolerances in both directions of each axis (toleranceAxes:
+// translations by the translation tolerance, rotations by the rotation tolerance), and yaw
+// errors of 5, 15, 45, 90 and 180 deg, in b's sensor frame (T_a_b * delta, as training and
+// the relative check). Errors past the CorAl radius are where a local test alone fails (Q
+// falls again past the radius), so the sweep is what a verdict "for every error size" is
+// tested and tuned on (coral_error_sweep, test_preset_verdicts).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "coral_introspection/coral/tolerance.hpp"
+#include "coral_introspection/coral/verdict.hpp"
+
+namespace coral_introspection {
+namespace eval {
+
+struct SweepError {
+  std::string label;  // "ground truth", "x+1", "yaw-8", "yaw+90deg", ...
+  coral::Axis axis = coral::Axis::kX;
+  int sign = 0;               // +1, -1 (0 at ground truth)
+  double multiple = 0;        // of the tolerance (0 for the fixed yaw angles and ground truth)
+  double magnitude = 0;       // [m] or [deg]
+  bool ground_truth = false;  // true: the verdict must say aligned; else misaligned
+  Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+};
+
+// Multiples of the tolerance and the fixed yaw angles of the sweep.
+inline const std::vector<double>& sweepMultiples() {
+  static const std::vector<double> m = {1, 2, 4, 8};
+  return m;
+}
+inline const std::vector<double>& sweepYawDegrees() {
+  static const std::vector<double> d = {5, 15, 45, 90, 180};
+  return d;
+}
+
+// Ground truth first, then every axis x multiple x sign, then the fixed yaw angles (both
+// signs; 180 deg once). Fixed yaw angles below the rotation tolerance are left out (they are
+// not errors at that tolerance).
+std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension);
+
+// One CSV line per judged error: the verdict and the terms behind it.
+std::string errorSweepCsvHeader();
+std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepError& e,
+                             const coral::AlignmentVerdict& v);
+
+}  // namespace eval
+}  // namespace coral_introspection

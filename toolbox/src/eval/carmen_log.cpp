@@ -1,0 +1,240 @@
+#include "coral_introspection/eval/carmen_log.hpp"
+
+#include <bzlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace eval {
+
+std::string LaserGeometry::validate() const {
+  return coral::Problems()
+      .require(angle_increment > 0.0, "angle_increment", "> 0 rad", angle_increment)
+      .require(min_range >= 0.0 && min_range < max_range, "min_range", "in [0, max_range) m",
+               min_range)
+      .str();
+}
+
+namespace {
+
+// Whole file as text; .bz2 files are decompressed (every concatenated stream).
+bool readText(const std::string& path, std::string* text, std::string* error) {
+  text->clear();
+  const bool bz2 = path.size() > 4 && path.compare(path.size() - 4, 4, ".bz2") == 0;
+  if (!bz2) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) return coral::fail(error, "cannot open " + path);
+    std::ostringstream s;
+    s << f.rdbuf();
+    *text = s.str();
+    return true;
+  }
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) return coral::fail(error, "cannot open " + path);
+  std::vector<char> unused;
+  char buf[1 << 16];
+  while (true) {
+    int err = BZ_OK;
+    BZFILE* bz =
+        BZ2_bzReadOpen(&err, f.get(), 0, 0, unused.data(), static_cast<int>(unused.size()));
+    if (err != BZ_OK) return coral::fail(error, path + ": not a bzip2 file");
+    while (err == BZ_OK) {
+      const int n = BZ2_bzRead(&err, bz, buf, sizeof(buf));
+      if (err == BZ_OK || err == BZ_STREAM_END) text->append(buf, n);
+    }
+    if (err != BZ_STREAM_END) {
+      BZ2_bzReadClose(&err, bz);
+      return coral::fail(error, path + ": corrupt bzip2 data");
+    }
+    void* rest = nullptr;
+    int n_rest = 0;
+    BZ2_bzReadGetUnused(&err, bz, &rest, &n_rest);
+    unused.assign(static_cast<char*>(rest), static_cast<char*>(rest) + n_rest);
+    BZ2_bzReadClose(&err, bz);
+    // Another stream follows when bytes are left over or the file is not at its end.
+    if (unused.empty()) {
+      const int c = std::fgetc(f.get());
+      if (c == EOF) return true;
+      std::ungetc(c, f.get());
+    }
+  }
+}
+
+}  // namespace
+
+bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
+                   std::string* error) {
+  std::string text;
+  if (!readText(path, &text, error)) return false;
+  scans->clear();
+  std::istringstream in(text);
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.rfind("FLASER ", 0) != 0) continue;
+    // FLASER num_readings [ranges] x y theta odom_x odom_y odom_theta ipc_timestamp host ...
+    std::istringstream ls(line.substr(7));
+    int count = 0;
+    CarmenLaserScan s;
+    ls >> count;
+    s.ranges.resize(std::max(count, 0));
+    for (double& r : s.ranges) ls >> r;
+    double odom[3];
+    ls >> s.laser_pose.x() >> s.laser_pose.y() >> s.laser_pose.z() >> odom[0] >> odom[1] >>
+        odom[2] >> s.stamp;
+    if (!ls || count <= 0)
+      return coral::fail(error, path + ":" + std::to_string(n) + ": malformed FLASER line");
+    scans->push_back(std::move(s));
+  }
+  return true;
+}
+
+coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
+  coral::Points p;
+  for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i], a = g.start_angle + static_cast<double>(i) * g.angle_increment;
+    if (r >= g.min_range && r < g.max_range) p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+  }
+  return p;
+}
+
+bool readRelations(const std::string& path, std::vector<Relation>* relations, std::string* error) {
+  std::ifstream in(path);
+  if (!in) return coral::fail(error, "cannot open " + path);
+  relations->clear();
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[0] == '#') continue;
+    std::istringstream ls(line);
+    Relation r;
+    double x, y, z, roll, pitch, yaw;
+    if (!(ls >> r.t1 >> r.t2 >> x >> y >> z >> roll >> pitch >> yaw))
+      return coral::fail(error,
+                         path + ":" + std::to_string(n) + ": expected t1 t2 x y z roll pitch yaw");
+    r.T_1_2.translation() = Eigen::Vector3d(x, y, z);
+    r.T_1_2.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                        Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                        Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+                           .toRotationMatrix();
+    relations->push_back(r);
+  }
+  return true;
+}
+
+bool relationPairs(const std::vector<CarmenLaserScan>& log, const std::vector<Relation>& relations,
+                   const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                   std::vector<ScanPair>* pairs, int* unmatched, std::string* error) {
+  if (const std::string e = geometry.validate(); !e.empty()) return coral::fail(error, e);
+  std::map<double, std::size_t> by_stamp;  // stamp -> log index
+  for (std::size_t i = 0; i < log.size(); ++i) by_stamp.emplace(log[i].stamp, i);
+  auto find = [&](double t) -> int {
+    auto it = by_stamp.lower_bound(t - 1e-4);
+    return it != by_stamp.end() && it->first <= t + 1e-4 ? static_cast<int>(it->second) : -1;
+  };
+  std::map<int, int> scan_of;  // log index -> training scan index
+  auto add = [&](int li) {
+    auto [it, fresh] = scan_of.emplace(li, static_cast<int>(scans->size()));
+    if (fresh) {
+      TrainingScan s;
+      s.stamp = log[li].stamp;
+      s.scan.points = laserPoints(log[li], geometry);
+      scans->push_back(std::move(s));
+    }
+    return it->second;
+  };
+  scans->clear();
+  pairs->clear();
+  *unmatched = 0;
+  for (const Relation& r : relations) {
+    const int i1 = find(r.t1), i2 = find(r.t2);
+    if (i1 < 0 || i2 < 0) {
+      ++*unmatched;
+      continue;
+    }
+    const bool fwd = r.t1 <= r.t2;  // the earlier scan becomes a
+    const int a = add(fwd ? i1 : i2), b = add(fwd ? i2 : i1);
+    pairs->push_back({a, b, fwd ? r.T_1_2 : r.T_1_2.inverse()});
+  }
+  return true;
+}
+
+std::string relationsPath(const std::string& log_path) {
+  std::string rel = log_path;
+  for (const char* ext : {".bz2", ".clf", ".log"})
+    if (rel.size() > 4 && rel.compare(rel.size() - 4, 4, ext) == 0) rel.resize(rel.size() - 4);
+  return rel + ".relations";
+}
+
+int logLineAt(const std::vector<CarmenLaserScan>& log, double stamp) {
+  const auto it = std::lower_bound(log.begin(), log.end(), stamp - 1e-4,
+                                   [](const CarmenLaserScan& l, double t) { return l.stamp < t; });
+  return static_cast<int>(it - log.begin());
+}
+
+bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,
+                       const LaserGeometry& geometry, int min_lines,
+                       std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,
+                       std::string* error) {
+  std::vector<Relation> relations, loops;
+  if (!readRelations(relations_path, &relations, error)) return false;
+  for (const Relation& r : relations)
+    if (std::abs(logLineAt(log, r.t1) - logLineAt(log, r.t2)) > min_lines) loops.push_back(r);
+  int unmatched = 0;
+  return relationPairs(log, loops, geometry, scans, pairs, &unmatched, error);
+}
+
+namespace {
+Eigen::Isometry3d planar(double x, double y, double theta) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = coral::Vec3(x, y, 0.0);
+  T.linear() = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+}  // namespace
+
+bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
+                       const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                       coral::Isometries* T_world_ref, coral::Isometries* T_world_odom,
+                       std::vector<int>* raw_index, std::string* error) {
+  if (const std::string e = geometry.validate(); !e.empty()) return coral::fail(error, e);
+  std::ifstream in(corrected_csv);
+  if (!in) return coral::fail(error, corrected_csv + ": cannot read");
+  scans->clear();
+  T_world_ref->clear();
+  T_world_odom->clear();
+  raw_index->clear();
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream s(line);
+    long idx = 0, raw = 0;
+    double stamp = 0, x = 0, y = 0, theta = 0;
+    if (!(s >> idx >> raw >> stamp >> x >> y >> theta))
+      return coral::fail(error, corrected_csv + ":" + std::to_string(n) + ": malformed line");
+    if (raw < 0 || raw >= static_cast<long>(log.size()))
+      return coral::fail(error, corrected_csv + ":" + std::to_string(n) + ": FLASER index " +
+                                    std::to_string(raw) + " outside the log (" +
+                                    std::to_string(log.size()) + " scans)");
+    const CarmenLaserScan& l = log[static_cast<std::size_t>(raw)];
+    TrainingScan t;
+    t.stamp = l.stamp;
+    t.scan.points = laserPoints(l, geometry);
+    scans->push_back(std::move(t));
+    T_world_ref->push_back(planar(x, y, theta));
+    T_world_odom->push_back(planar(l.laser_pose.x(), l.laser_pose.y(), l.laser_pose.z()));
+    raw_index->push_back(static_cast<int>(raw));
+  }
+  if (scans->empty()) return coral::fail(error, corrected_csv + ": no poses");
+  return true;
+}
+
+}  // namespace eval
+}  // namespace coral_introspection

@@ -1,0 +1,245 @@
+#include "coral_introspection/eval/loop_candidates.hpp"
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/ndt.h>
+#include <pcl/registration/transformation_estimation_2D.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace eval {
+
+std::string LoopCandidateConfig::validate() const {
+  return coral::Problems()
+      .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)
+      .require(min_index_gap >= 1, "min_index_gap", ">= 1", min_index_gap)
+      .require(radius > 0.0, "radius", "> 0 m", radius)
+      .require(lookalike_min_distance > radius, "lookalike_min_distance", "> radius",
+               lookalike_min_distance)
+      .require(max_correspondence > 0.0, "max_correspondence", "> 0 m", max_correspondence)
+      .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
+      .require(registration == "gicp" || (registration == "ndt" && dimension == 3),
+               "registration must be gicp or ndt, and ndt only in 3D (2D scans are registered by "
+               "planar ICP); got " +
+                   registration)
+      .require(ndt_resolution > 0.0, "ndt_resolution", "> 0 m", ndt_resolution)
+      .require(false_multiple >= 1.0, "false_multiple", ">= 1", false_multiple)
+      .nested("tolerance", tolerance.validate())
+      .str();
+}
+
+namespace {
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const coral::Points& pts, int dimension) {
+  pcl::PointCloud<pcl::PointXYZ>::Ptr c(new pcl::PointCloud<pcl::PointXYZ>);
+  c->reserve(pts.size());
+  for (const coral::Vec3& p : pts)
+    if (p.allFinite())
+      c->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                 dimension == 2 ? 0.f : static_cast<float>(p.z())));
+  return c;
+}
+
+// Runs a PCL registration (GICP or ICP, both pcl::Registration) from T_init; fills converged
+// and fitness, returns the final transformation.
+Eigen::Matrix4f align(pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>* reg,
+                      const pcl::PointCloud<pcl::PointXYZ>::Ptr& target,
+                      const pcl::PointCloud<pcl::PointXYZ>::Ptr& source,
+                      const Eigen::Isometry3d& T_init, const LoopCandidateConfig& cfg,
+                      LoopCandidate* c) {
+  reg->setMaxCorrespondenceDistance(cfg.max_correspondence);
+  reg->setMaximumIterations(cfg.max_iterations);
+  reg->setInputTarget(target);
+  reg->setInputSource(source);
+  pcl::PointCloud<pcl::PointXYZ> aligned;
+  reg->align(aligned, T_init.matrix().cast<float>());
+  c->converged = reg->hasConverged();
+  c->fitness = reg->getFitnessScore(cfg.fitness_range);
+  return reg->getFinalTransformation();
+}
+
+// Pairs (i, j), j - i >= gap, spread evenly over those that pass `keep` (every k-th).
+template <class Keep>
+std::vector<std::pair<int, int>> spreadPairs(int n, int gap, int max_pairs, Keep keep) {
+  std::vector<std::pair<int, int>> all;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + gap; j < n; ++j)
+      if (keep(i, j)) all.emplace_back(i, j);
+  if (static_cast<int>(all.size()) <= max_pairs) return all;
+  std::vector<std::pair<int, int>> out;
+  for (int k = 0; k < max_pairs; ++k)
+    out.push_back(all[static_cast<std::size_t>(k) * all.size() / max_pairs]);
+  return out;
+}
+
+}  // namespace
+
+LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceConfig& tolerance) {
+  LoopCandidateConfig c;
+  c.dimension = dimension;
+  c.tolerance = tolerance;
+  if (dimension == 3) {
+    c.propose_by_odometry = true;
+  } else {
+    c.min_index_gap = 30;
+    c.max_radius_candidates = 300;  // 2D registration is cheap: a graph with many loops
+    c.max_lookalike_pairs = 60;
+    c.init_offset = 0.5;
+    c.init_offset_deg = 10.0;
+  }
+  return c;
+}
+
+void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
+                   double* r_deg) {
+  const Eigen::Isometry3d d = T_ref.inverse() * T_a_b;
+  *t = d.translation().norm();
+  *r_deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
+}
+
+void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::Isometry3d& T_init,
+                  const LoopCandidateConfig& cfg, LoopCandidate* c) {
+  const auto target = toPcl(a, cfg.dimension);
+  const auto source = toPcl(b, cfg.dimension);
+  Eigen::Matrix4f result;
+  if (cfg.dimension == 3 && cfg.registration == "ndt") {
+    pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
+    ndt.setResolution(static_cast<float>(cfg.ndt_resolution));
+    ndt.setStepSize(0.1);
+    ndt.setTransformationEpsilon(0.01);
+    result = align(&ndt, target, source, T_init, cfg, c);
+  } else if (cfg.dimension == 3) {
+    pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
+    result = align(&gicp, target, source, T_init, cfg, c);
+  } else {
+    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+    icp.setTransformationEstimation(
+        pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>::Ptr(
+            new pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>));
+    result = align(&icp, target, source, T_init, cfg, c);
+  }
+  c->T_a_b.matrix() = result.cast<double>();
+  // Re-orthonormalise the float result.
+  c->T_a_b.linear() = Eigen::Quaterniond(c->T_a_b.linear()).normalized().toRotationMatrix();
+}
+
+namespace {
+
+// Labels c against the relative pose T_ref: true within the tolerance, false at
+// false_multiple tolerances or more; returns whether to keep it (not in the band between,
+// unless keep_ambiguous).
+bool labelCandidate(const Eigen::Isometry3d& T_ref, const LoopCandidateConfig& cfg,
+                    LoopCandidate* c) {
+  relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
+  const coral::ToleranceConfig& t = cfg.tolerance;
+  c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
+  const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
+                        c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
+  return c->is_true || is_false || cfg.keep_ambiguous;
+}
+
+// x, y offset and yaw [deg] as a planar transform.
+Eigen::Isometry3d planarOffset(double x, double y, double yaw_deg) {
+  Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
+  d.translation() << x, y, 0.0;
+  d.linear() =
+      Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return d;
+}
+
+}  // namespace
+
+// Two registrations of one pair ending within this many metres and degrees reached the same
+// optimum.
+constexpr double kSameMetres = 0.05, kSameDegrees = 0.5;
+
+bool relationRegistrations(const std::vector<TrainingScan>& scans,
+                           const std::vector<ScanPair>& pairs, const LoopCandidateConfig& cfg,
+                           std::vector<LoopCandidate>* out, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
+  if (cfg.init_offset < 0.0)
+    return coral::fail(error, "relation registrations need init_offset >= 0");
+  out->clear();
+  const double o = cfg.init_offset, y = cfg.init_offset_deg;
+  const Eigen::Isometry3d offsets[4] = {planarOffset(o, 0, y), planarOffset(-o, 0, -y),
+                                        planarOffset(0, o, -y), planarOffset(0, -o, y)};
+  const std::size_t n = std::min(pairs.size(), static_cast<std::size_t>(cfg.max_radius_candidates));
+  for (std::size_t k = 0; k < n; ++k) {
+    const ScanPair& p = pairs[k * pairs.size() / n];
+    std::vector<Eigen::Isometry3d> results;  // of this pair: a result reached twice counts once
+    for (const Eigen::Isometry3d& d : offsets) {
+      LoopCandidate c;
+      c.a = p.a;
+      c.b = p.b;
+      c.source = "relation_icp";
+      registerPair(scans[p.a].scan.points, scans[p.b].scan.points, p.T_a_b * d, cfg, &c);
+      const bool seen = std::any_of(results.begin(), results.end(), [&](const auto& T) {
+        double t, r;
+        relativeError(c.T_a_b, T, &t, &r);
+        return t < kSameMetres && r < kSameDegrees;
+      });
+      results.push_back(c.T_a_b);
+      if (!seen && labelCandidate(p.T_a_b, cfg, &c)) out->push_back(c);
+    }
+  }
+  return true;
+}
+
+bool buildLoopCandidates(const std::vector<TrainingScan>& scans,
+                         const coral::Isometries& T_world_ref,
+                         const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                         std::vector<LoopCandidate>* out, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
+  const int n = static_cast<int>(scans.size());
+  if (T_world_ref.size() != scans.size() || T_world_odom.size() != scans.size())
+    return coral::fail(error, "scans, reference and odometry poses differ in number");
+  out->clear();
+  auto distIn = [](const coral::Isometries& T, int i, int j) {
+    return (T[i].translation() - T[j].translation()).head<2>().norm();
+  };
+  auto dist = [&](int i, int j) { return distIn(T_world_ref, i, j); };
+  const coral::Isometries& proposal = cfg.propose_by_odometry ? T_world_odom : T_world_ref;
+  auto label = [&](LoopCandidate* c) {  // drops the ambiguous band
+    return labelCandidate(T_world_ref[c->a].inverse() * T_world_ref[c->b], cfg, c);
+  };
+  // (a) revisits within the radius, registered from the odometry's relative pose.
+  for (const auto& [i, j] :
+       spreadPairs(n, cfg.min_index_gap, cfg.max_radius_candidates,
+                   [&](int i, int j) { return distIn(proposal, i, j) <= cfg.radius; })) {
+    LoopCandidate c;
+    c.a = i;
+    c.b = j;
+    c.source = "radius";
+    Eigen::Isometry3d init = T_world_odom[i].inverse() * T_world_odom[j];
+    if (cfg.init_offset >= 0.0)
+      init = T_world_ref[i].inverse() * T_world_ref[j] *
+             planarOffset(cfg.init_offset, 0.0, cfg.init_offset_deg);
+    registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
+    if (label(&c)) out->push_back(c);
+  }
+  // (b) different places registered from several headings (translation zero).
+  for (const auto& [i, j] :
+       spreadPairs(n, cfg.min_index_gap, cfg.max_lookalike_pairs,
+                   [&](int i, int j) { return dist(i, j) >= cfg.lookalike_min_distance; }))
+    for (double yaw : cfg.headings_deg) {
+      LoopCandidate c;
+      c.a = i;
+      c.b = j;
+      c.source = "lookalike";
+      c.init_yaw_deg = yaw;
+      Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
+      init.linear() = Eigen::AngleAxisd(yaw * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+      registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
+      if (label(&c)) out->push_back(c);
+    }
+  return true;
+}
+
+}  // namespace eval
+}  // namespace coral_introspection

@@ -1,0 +1,41 @@
+#include "coral_introspection/eval/loop_gates.hpp"
+
+namespace coral_introspection {
+namespace eval {
+
+const std::vector<std::string>& loopGateNames() {
+  static const std::vector<std::string> names = {
+      "verdict",      "no_free_space", "no_constraint", "relative", "classifier",
+      "fitness<=0.3", "fitness<=0.5",  "fitness<=2.5",  "oracle",   "all"};
+  return names;
+}
+
+bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
+                     const coral::AlignmentVerdict& v_both, const coral::VerdictConfig& cfg) {
+  if (gate == "oracle") return c.is_true;
+  if (gate == "all") return true;
+  if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
+  if (!v_both.valid) return false;  // no CorAl verdict (no overlap): every CorAl gate rejects
+  coral::AlignmentVerdict v = v_both;
+  if (gate == "verdict" || gate == "no_free_space" || gate == "no_constraint") {
+    coral::VerdictConfig loop = coral::loopClosureVerdict(cfg);
+    if (gate == "no_free_space") loop.gate.max_free_space = 1.0;
+    if (gate == "no_constraint") loop.gate.min_constraint = 0.0;
+    // v_both's relative decision used the stream's margin: decide again with the loop's.
+    v.relative.misaligned = coral::exceedsMargin(v.relative, loop.relative);
+    coral::combineVerdict(loop.method, v.classifier, v.relative, loop.relative, &v, loop.gate,
+                          coral::gateTerms(v));
+  } else if (gate == "relative") {
+    coral::combineVerdict(coral::VerdictMethod::kRelative, v.classifier, v.relative, cfg.relative,
+                          &v);
+  } else if (gate == "classifier") {
+    coral::combineVerdict(coral::VerdictMethod::kClassifier, v.classifier, v.relative, cfg.relative,
+                          &v);
+  } else {
+    return false;
+  }
+  return v.valid && v.aligned;
+}
+
+}  // namespace eval
+}  // namespace coral_introspection

@@ -1,0 +1,231 @@
+// coral_loop_eval: loop closure end to end on a real sequence with reference poses, the
+// evaluation of doc/loop_closure.md and a template of the consumer:
+//   1. loop candidates (eval/loop_candidates.hpp): revisits and look-alike places, registered
+//      by PCL (GICP or NDT in 3D, planar ICP in 2D), labelled true or false against the
+//      reference;
+//   2. each gate of eval/loop_gates.hpp decides every candidate (one CorAl evaluation each);
+//   3. per gate, a keyframe pose graph (odometry edges + the accepted loop edges) optimised
+//      with Ceres (eval/pose_graph.hpp, loop sigmas by continuation); ATE against the
+//      reference poses and, for CARMEN logs, the benchmark's relation error; trajectories
+//      written as TUM and KITTI files with --out_dir.
+//   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
+//       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
+//       [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] [--out_dir DIR]
+// Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
+// CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
+// log's raw odometry the odometry, the reference the graph of the benchmark relations; the
+// relations joining scans more than 30 log lines apart are the revisits, as they are and
+// registered again from a perturbed pose (labelled against the relation), edges between the
+// graph nodes their raw scans hang off (eval/log_nodes.hpp).
+// --rows even|odd: only every other candidate (tuning / held-out halves of the gate table).
+// Exit 0 on success, 2 with a message for bad arguments or unreadable data.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/eval/carmen_loops.hpp"
+#include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/keyframe_sequence.hpp"
+#include "coral_introspection/eval/loop_gates.hpp"
+#include "coral_introspection/eval/pose_graph.hpp"
+#include "coral_introspection/eval/tool_args.hpp"
+#include "coral_introspection/online/introspector.hpp"
+#include "coral_introspection/ros_eval/preset_file.hpp"
+
+using namespace coral_introspection;
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
+    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] "
+    "[--out_dir DIR]";
+
+int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
+
+// Edge uncertainties of the graph [m], [rad]: keyframe odometry (lidar-inertial) is good to a
+// few cm per keyframe; wheel odometry between corrected CARMEN scans (~1 m apart) to ~0.1 m
+// and a few degrees; a registered loop edge to about the tolerance's tenth. Huber (whitened
+// units) on loop edges, as back ends with robust kernels use (hdl_graph_slam's Huber 1.0).
+struct GraphSettings {
+  double odom_t = 0.05, odom_r = 0.01, loop_t = 0.05, loop_r = 0.01, huber = 1.0;
+};
+
+// A candidate and the one CorAl evaluation every CorAl gate decides from.
+struct Judged {
+  eval::LoopCandidate c;
+  coral::AlignmentVerdict v;   // method kBoth
+  bool in_graph = false;       // an edge of the graph: between graph nodes, or attached to them
+  int node_a = 0, node_b = 0;  // its graph nodes
+  Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // node_b in node_a's frame
+};
+
+// A benchmark relation's raw scans hang off the graph node at most this many log lines away
+// (the corrected scans are ~9 lines apart).
+constexpr int kAttachLines = 10;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  eval::ToolArgs args;
+  std::string err;
+  if (!eval::parseToolArgs(argc, argv,
+                           {"--config", "--keyframes", "--carmen", "--corrected", "--out",
+                            "--out_dir", "--rows", "--registration"},
+                           {}, &args, &err))
+    return fail(err);
+  if (args.help) {
+    std::printf("%s\n", kUsage);
+    return 0;
+  }
+  const std::string config = args.get("--config"), keyframes = args.get("--keyframes"),
+                    carmen = args.get("--carmen"), corrected = args.get("--corrected"),
+                    out_path = args.get("--out"), out_dir = args.get("--out_dir"),
+                    rows = args.get("--rows", "all"),
+                    registration = args.get("--registration", "gicp");
+  if (config.empty() || keyframes.empty() == carmen.empty() || carmen.empty() != corrected.empty())
+    return fail("--config and either --keyframes or --carmen with --corrected are required");
+  if (rows != "all" && rows != "even" && rows != "odd")
+    return fail("--rows must be all, even or odd (got '" + rows + "')");
+  ros_adapters::NodeConfig node;
+  coral::VerdictConfig verdict;
+  if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
+    return fail(err);  // names the file (and line)
+  online::IntrospectorConfig judge_cfg = node.online;
+  judge_cfg.verdict.method = coral::VerdictMethod::kBoth;  // every term of the verdict
+  // The loop gate as `gate` (loop_gates.hpp); every gate term measured for the CSV even when
+  // the preset's loop gate does not use it.
+  judge_cfg.verdict.gate = verdict.loop_closure;
+  judge_cfg.verdict.measure_gate_terms = true;
+  const int dim = node.online.coral.dimension;
+
+  eval::CarmenLoopSet set;  // keyframes: scans, ref, odom and the candidates; CARMEN: all of it
+  std::vector<double> stamps;
+  GraphSettings graph;
+  eval::LoopCandidateConfig cand_cfg = eval::evaluationCandidates(dim, verdict.tolerance);
+  cand_cfg.registration = registration;
+  if (!keyframes.empty()) {
+    if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &set.scans,
+                                    &set.ref, &err) ||
+        !eval::readKittiPoses(keyframes + "/odom_poses.txt", &set.odom, &err))
+      return fail(err);
+    if (set.odom.size() < set.scans.size()) return fail("fewer odometry poses than keyframes");
+    set.odom.resize(set.scans.size());
+    // 1. Candidates: revisits near the odometry pose and look-alike places.
+    if (!eval::buildLoopCandidates(set.scans, set.ref, set.odom, cand_cfg, &set.lookalikes, &err))
+      return fail(err);
+  } else {
+    // 1. Candidates: the loop relations as they are and registered again, look-alike places.
+    if (!eval::loadCarmenLoopSet(carmen, corrected, eval::relationsPath(carmen), cand_cfg, 30,
+                                 kAttachLines, &set, &err))
+      return fail(err);
+    graph.odom_t = 0.1;
+    graph.odom_r = 0.03;
+    const eval::RelationGraphFigures& f = set.figures;
+    std::printf(
+        "reference: odometry + %d benchmark relations (relation error %.3f m / %.2f deg; the "
+        "corrected poses' %.3f m / %.2f deg; ATE between the two %.3f m)\n",
+        f.edges, f.own.translation, f.own.rotation_deg, f.corrected.translation,
+        f.corrected.rotation_deg, set.ate_reference_corrected);
+  }
+  const std::vector<eval::TrainingScan>& scans = set.scans;
+  const coral::Isometries &ref = set.ref, &odom = set.odom;
+  for (const auto& s : scans) stamps.push_back(s.stamp);
+
+  // 2. One evaluation each.
+  std::vector<Judged> judged;
+  for (const eval::LoopCandidate& c : set.lookalikes)
+    judged.push_back(
+        {c, online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, judge_cfg, false).verdict,
+         true, c.a, c.b, c.T_a_b});
+  const eval::LogNodes nodes(set.log, set.raw);
+  for (const eval::LoopCandidate& c : set.revisits) {
+    const std::vector<eval::TrainingScan>& rs = set.rel_scans;
+    Judged j{c, online::judgePair(rs[c.a].scan, rs[c.b].scan, c.T_a_b, judge_cfg, false).verdict};
+    // An edge between the nodes its scans hang off: T_node_a_a * T_a_b * T_node_b_b^-1.
+    Eigen::Isometry3d A, B;
+    j.in_graph = nodes.attach(rs[c.a].stamp, kAttachLines, &j.node_a, &A) &&
+                 nodes.attach(rs[c.b].stamp, kAttachLines, &j.node_b, &B) && j.node_a != j.node_b;
+    if (j.in_graph) j.T_edge = A * c.T_a_b * B.inverse();
+    judged.push_back(j);
+  }
+  std::vector<const Judged*> table;  // the rows of the gate table
+  for (std::size_t k = 0; k < judged.size(); ++k)
+    if (rows == "all" || (rows == "even") == (k % 2 == 0)) table.push_back(&judged[k]);
+
+  if (!out_path.empty()) {
+    std::ofstream out(out_path);
+    if (!out) return fail("cannot write " + out_path);
+    out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
+           "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
+           "constraint\n";
+    for (const Judged* j : table) {
+      const eval::LoopCandidate& c = j->c;
+      const coral::AlignmentVerdict& v = j->v;
+      out << c.a << ',' << c.b << ',' << c.source << ',' << c.init_yaw_deg << ',' << c.is_true
+          << ',' << c.error_translation << ',' << c.error_rotation_deg << ',' << c.converged << ','
+          << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
+          << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
+          << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
+          << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ','
+          << v.constraint.weakest << "\n";
+    }
+  }
+
+  // The gate table, then 3. a pose graph per gate.
+  int n_true = 0, n_false = 0;
+  for (const Judged* j : table) (j->c.is_true ? n_true : n_false)++;
+  std::printf("%s: %zu scans; %d true and %d false loop candidates (%s rows)\n",
+              keyframes.empty() ? carmen.c_str() : keyframes.c_str(), scans.size(), n_true, n_false,
+              rows.c_str());
+  eval::PoseGraphConfig pg;
+  pg.dimension = dim;
+  pg.huber_loss = graph.huber;
+  // Continuation: the CARMEN logs' raw odometry starts the graph metres and tens of degrees off.
+  pg.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
+  const auto odom_edges = eval::odometryEdges(odom, graph.odom_t, graph.odom_r);
+  const double ate_odom = eval::absoluteTrajectoryError(odom, ref, dim);
+  // CARMEN: the benchmark's relation error of the graph too (every relation of the log, loop
+  // relations included: they are edges of the graphs whose gate accepts them).
+  auto relErr = [&](const coral::Isometries& poses) {
+    if (set.relations.empty()) return std::string();
+    const eval::RelationError e = eval::relationError(nodes, poses, set.relations, kAttachLines);
+    char buf[64];
+    std::snprintf(buf, sizeof buf, " %9.3f %8.2f", e.translation, e.rotation_deg);
+    return std::string(buf);
+  };
+  std::printf("%-14s %14s %14s %10s %10s%s\n", "gate", "true accepted", "false accepted", "ATE [m]",
+              "edges", set.relations.empty() ? "" : "  rel [m]  rel [deg]");
+  std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
+              relErr(odom).c_str());
+  for (const std::string& gate : eval::loopGateNames()) {
+    int ta = 0, fa = 0;
+    std::vector<eval::PoseGraphEdge> edges = odom_edges;
+    for (const Judged* j : table) {
+      if (!eval::loopGateAccepts(gate, j->c, j->v, verdict)) continue;
+      (j->c.is_true ? ta : fa)++;
+      if (j->in_graph)  // the rows' candidates between scans of the graph
+        edges.push_back({j->node_a, j->node_b, j->T_edge, graph.loop_t, graph.loop_r, true});
+    }
+    coral::Isometries poses = odom;
+    eval::PoseGraphResult res;
+    if (!eval::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
+    const double ate = eval::absoluteTrajectoryError(poses, ref, dim);
+    std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu%s\n", gate.c_str(), ta, n_true, fa,
+                n_false, ate, edges.size() - odom_edges.size(), relErr(poses).c_str());
+    if (!out_dir.empty()) {
+      std::string name = gate;
+      std::replace(name.begin(), name.end(), '<', '_');
+      std::replace(name.begin(), name.end(), '=', '_');
+      if (!eval::writeTumTrajectory(out_dir + "/" + name + ".tum", stamps, poses, &err) ||
+          !eval::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err))
+        return fail(err);
+    }
+  }
+  return 0;
+}
