@@ -2,7 +2,8 @@
 // time_offset/estimate each Doppler and point residual is moved to its frame's time by t_d,
 // t_d has a prior around radar_time_offset (carried by the marginalisation prior once its
 // first frame leaves the window), is bounded by time_offset/max_abs, and an estimate that
-// stays at the bound refuses the input. Frames keep the time stamp + radar_time_offset.
+// stays at the bound, or radar frames arriving with an IMU lag no t_d within the bound
+// explains, refuse the input. Frames keep the time stamp + radar_time_offset.
 #include <ceres/ceres.h>
 
 #include <algorithm>

@@ -79,6 +79,7 @@ enum class Edit {
   kAccInG,
   kImuClockPlus100s,
   kImuClockPlus0_5s,
+  kImuClockMinus0_5s,
   kDropImu,
   kDropTrigger,
   kImuGapAt20s
@@ -113,6 +114,7 @@ std::string rewriteTiBag(const std::string& data, Edit edit, double seconds,
       }
       if (edit == Edit::kImuClockPlus100s) imu->header.stamp += ros::Duration(100.0);
       if (edit == Edit::kImuClockPlus0_5s) imu->header.stamp += ros::Duration(0.5);
+      if (edit == Edit::kImuClockMinus0_5s) imu->header.stamp -= ros::Duration(0.5);
       out.write(m.getTopic(), m.getTime(), *imu);
     } else if (sensor_msgs::PointCloud2::Ptr cloud = m.instantiate<sensor_msgs::PointCloud2>()) {
       if (edit == Edit::kRenameVelocityField)
@@ -244,6 +246,10 @@ TEST(RioOffline, BadTiBagsAreRefusedWithTheReason) {
        "time is 0.613 s (median of 20 frames), more than time_offset/max_latency 0.3 s of radar "
        "latency plus time_offset/max_abs 0.1 s: the IMU clock is ahead of the radar stamps (IMU "
        "stamps late?)"},
+      {"imu_early", Edit::kImuClockMinus0_5s,
+       "the newest IMU stamp minus the frame time is -0.387 s (median of 20 frames), before the "
+       "IMU covers them: the IMU clock is behind the radar stamps by more than time_offset/max_abs "
+       "0.1 s (IMU stamps early?)"},
       {"no_imu", Edit::kDropImu,
        "the bag has no topic '/sensor_platform/imu' (ros/imu_topic); its sensor_msgs/Imu "
        "topics: none"},
