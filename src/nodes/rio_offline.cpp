@@ -81,18 +81,24 @@ struct Span {
   }
 };
 
+// Half the radar's span without IMU: the clocks differ (or the stamps are not times). Judged
+// first, also over the part read before another refusal: it names the cause of that one (an
+// IMU 100 s late is refused by the time offset check at arrival too).
+std::string judgeClocks(const Span& imu, const Span& radar) {
+  if (imu.n == 0 || radar.n == 0) return "";
+  const double overlap = std::min(imu.last, radar.last) - std::max(imu.first, radar.first);
+  if (overlap >= 0.5 * (radar.last - radar.first)) return "";
+  return "the IMU and radar clocks do not overlap: IMU stamps " + std::to_string(imu.first) +
+         " .. " + std::to_string(imu.last) + " s, radar frames " + std::to_string(radar.first) +
+         " .. " + std::to_string(radar.last) + " s";
+}
+
 // After the run: why its trajectory is not one ("" when it is).
 std::string judgeRun(const Span& imu, const Span& radar, const eval::RioRun& run,
                      const std::string& last_input_error) {
   const std::string why = last_input_error.empty() ? "" : " (last: " + last_input_error + ")";
   if (imu.n == 0) return "no usable IMU sample" + why;
   if (radar.n == 0) return "no radar frame" + why;
-  // Half the radar's span without IMU: the clocks differ (or the stamps are not times).
-  const double overlap = std::min(imu.last, radar.last) - std::max(imu.first, radar.first);
-  if (overlap < 0.5 * (radar.last - radar.first))
-    return "the IMU and radar clocks do not overlap: IMU stamps " + std::to_string(imu.first) +
-           " .. " + std::to_string(imu.last) + " s, radar frames " + std::to_string(radar.first) +
-           " .. " + std::to_string(radar.last) + " s";
   long tracked = 0, resets = 0;
   std::string last_message;
   for (const rio::FrameReport& r : run.reports()) {
@@ -164,8 +170,8 @@ int main(int argc, char** argv) {
   eval::RioRun run;
   Span imu_span, radar_span;
   // Newest IMU stamp minus the frame time when a frame completes: the radar's latency on a
-  // common clock (TI bag: 0.12 s); far from any latency it shows a clock offset, which the
-  // estimator does not estimate.
+  // common clock (TI bag: 0.12 s) plus any clock offset; with time_offset/estimate the
+  // estimator judges it (time_offset/max_latency, max_abs) and refuses an offset beyond.
   std::vector<double> arrival_lag;
   std::string last_input_error, refusal;
   auto feed = [&](std::vector<rio::RadarFrame> frames) {
@@ -225,13 +231,16 @@ int main(int argc, char** argv) {
             << ", empty scans " << c.empty_scans << ", scans without Doppler "
             << c.no_doppler + ic.no_velocity_field << ", unmatched scans "
             << ic.unmatched_scans + input.waitingScans() << "\n";
+  std::cout << eval::timeOffsetSummary(est);
   if (cfg.barometer.enabled)
     std::cout << "barometer: frames with a residual " << c.baro_frames << ", bad samples "
               << c.bad_baro + ic.bad_baro << "\n";
   if (!arrival_lag.empty())
     std::cout << "radar frame time vs newest IMU stamp at arrival: median "
               << coral::quantile(arrival_lag, 0.5)  // a measured lag (upper middle)
-              << " s (radar latency; far from it: a clock offset)\n";
+              << " s (radar latency plus any clock offset)\n";
+  if (const std::string clocks = judgeClocks(imu_span, radar_span); !clocks.empty())
+    refusal = clocks;
   if (refusal.empty()) refusal = judgeRun(imu_span, radar_span, run, last_input_error);
   if (!refusal.empty()) return refuse(refusal);
   if (!eval::writeTum(output, run.trajectory(), &err) ||
@@ -241,6 +250,7 @@ int main(int argc, char** argv) {
   }
   const eval::LoopError e = eval::loopError(run.trajectory());
   std::cout << "loop end-point error: horizontal " << e.horizontal << " m, vertical " << e.vertical
-            << " m, yaw " << e.yaw_deg << " deg\n";
+            << " m, yaw " << e.yaw_deg << " deg; end (x, y) in the start-heading frame (" << e.x
+            << ", " << e.y << ") m\n";
   return 0;
 }

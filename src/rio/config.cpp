@@ -97,6 +97,11 @@ std::string RioConfig::validate() const {
       .require(extrinsics.t.allFinite(), "extrinsics translation must be finite")
       .require(std::abs(radar_time_offset) < 1.0, "radar_time_offset", "in (-1, 1) s",
                radar_time_offset)
+      .nested("time_offset", time_offset.validate())
+      // The prior inside the bound (Ceres needs the start value there; at the bound it would
+      // count towards a refusal from the first frame).
+      .require(!time_offset.estimate || std::abs(radar_time_offset) < time_offset.max_abs,
+               "radar_time_offset", "inside time_offset/max_abs when estimated", radar_time_offset)
       .nested("uncertainty", uncertainty.validate())
       .nested("front_end", front_end.validate())
       .nested("association", association.validate())

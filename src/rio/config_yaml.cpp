@@ -34,6 +34,11 @@ bool readAll(config::ParamTree& r, RioConfig* c) {
       r.get("imu/gyro_bias_walk", &imu.gyro_bias_walk) && r.get("imu/gravity", &imu.gravity) &&
       r.getList("extrinsics/translation", 3, &t) && r.getList("extrinsics/rotation", 4, &q) &&
       r.get("radar_time_offset", &c->radar_time_offset) &&
+      r.get("time_offset/estimate", &c->time_offset.estimate) &&
+      r.get("time_offset/sigma", &c->time_offset.sigma) &&
+      r.get("time_offset/max_abs", &c->time_offset.max_abs) &&
+      r.get("time_offset/max_time_at_bound", &c->time_offset.max_time_at_bound) &&
+      r.get("time_offset/max_latency", &c->time_offset.max_latency) &&
       r.getChoice("uncertainty/mode", mode_names, &mode) &&
       r.get("uncertainty/sigma_range", &u.noise.sigma_range) &&
       r.get("uncertainty/sigma_azimuth", &u.noise.sigma_azimuth) &&

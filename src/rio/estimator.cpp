@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "coral_introspection/rio/prior_factors.hpp"
+#include "coral_introspection/rio/time_offset.hpp"
 #include "window_frame.hpp"
 
 namespace coral_introspection {
@@ -35,6 +36,11 @@ constexpr double kSigmaVelocityBridgedConstant = 1.0;
 //   (initializer.hpp), far looser than the standstill's InitConfig::sigma_velocity.
 constexpr double kSigmaVelocityMovingStart = 0.5;
 
+// [s] of gyro samples before a frame whose slope is its angular acceleration (the Doppler's
+// rate for the time offset, time_offset.hpp): about 10 samples of a 200 Hz IMU, short enough
+// for the hand-held motion's changes of rate (peaks of 2.7 rad/s within a few tenths of a s).
+constexpr double kAngularAccelerationSpan = 0.05;
+
 }  // namespace
 
 const char* toString(FrameStatus s) {
@@ -52,6 +58,7 @@ const char* toString(FrameStatus s) {
 }
 
 Estimator::Estimator(const RioConfig& cfg) : cfg_(cfg), init_(cfg), imu_check_(cfg) {
+  td_[0] = cfg_.radar_time_offset;
   if (cfg_.solver.loss == "huber")
     loss_ = std::make_shared<ceres::HuberLoss>(cfg_.solver.loss_scale);
   else if (cfg_.solver.loss == "cauchy")
@@ -72,6 +79,11 @@ void Estimator::reset() {
   prior_blocks_.clear();
   tracks_.clear();
   last_frame_t_ = -1e300;
+  td_[0] = cfg_.radar_time_offset;
+  td_prior_.reset();
+  td_at_bound_ = 0.0;
+  arrival_lag_.clear();
+  imu_since_frame_ = false;
 }
 
 NavState Estimator::latest() const {
@@ -119,6 +131,7 @@ std::vector<FrameReport> Estimator::addImu(const ImuSample& s) {
     return {};
   }
   imu_.push_back(s);
+  imu_since_frame_ = true;
   return drain();
 }
 
@@ -141,6 +154,10 @@ std::vector<FrameReport> Estimator::addRadar(RadarFrame frame) {
     if (frame.t <= last_frame_t_) return out;
   }
   last_frame_t_ = frame.t;
+  // Only with IMU samples since the previous frame: in an IMU gap the newest stamp stands
+  // still while the radar goes on, which is not a clock offset.
+  if (imu_since_frame_) judgeArrivalLag(imu_.back().t - frame.t);
+  imu_since_frame_ = false;
   pending_.push_back(std::move(frame));
   while (pending_.size() > 50) {  // no IMU for a long time: forget the oldest frames
     FrameReport r;
@@ -199,6 +216,7 @@ FrameReport Estimator::process(const RadarFrame& f) {
   ++counters_.frames;
   FrameReport report;
   report.t = f.t;
+  report.time_offset = td_[0];
   if (!input_error_.empty()) {
     ++counters_.rejected_frames;
     report.status = FrameStatus::kRejected;
@@ -230,6 +248,8 @@ FrameReport Estimator::process(const RadarFrame& f) {
   takeFrontEnd(fe, interval, w.get(), &report);
   addToWindow(std::move(w), pred, &report);
   if (!solveOrReset(pred, &report)) return report;
+  judgeTimeOffset(window_.back()->t - window_[window_.size() - 2]->t);
+  report.time_offset = td_[0];
   rejectOutliers(&report);
   report.state = window_.back()->state();
   report.status = FrameStatus::kTracking;
@@ -266,6 +286,8 @@ void Estimator::initialise(const RadarFrame& f, double t_prev, bool have_imu,
   w->t = f.t;
   toBlocks(x, &w->x);
   w->omega = interval.back().gyro;
+  w->acc = interval.back().acc;
+  w->alpha = angularAcceleration(interval, kAngularAccelerationSpan);
   w->standing = fe.standing;
   attachBaro(t_prev, nullptr, w.get());
   window_.push_back(std::move(w));
@@ -298,6 +320,8 @@ std::unique_ptr<Estimator::WindowFrame> Estimator::predictFrame(
   toBlocks(*pred, &w->x);
   attachBaro(prev.t, &prev, w.get());
   w->omega = interval.back().gyro;
+  w->acc = interval.back().acc;
+  w->alpha = angularAcceleration(interval, kAngularAccelerationSpan);
   return w;
 }
 
@@ -340,8 +364,8 @@ void Estimator::addToWindow(std::unique_ptr<WindowFrame> w, const NavState& pred
       if (fr->id == id) return radarPose(fr->state());
     return Eigen::Isometry3d::Identity();  // not reached: tracks only hold window frames
   };
-  const Tracks::Stats s =
-      tracks_.associate(f.id, pts, covs, W, radarPose(pred), pose_of, cfg_.association);
+  const Tracks::Stats s = tracks_.associate(f.id, pts, covs, W, measurementPose(pred, f.omega),
+                                            pose_of, cfg_.association);
   report->matched = s.matched;
   report->created = s.created;
   report->map_matched = s.map_matched;
@@ -357,6 +381,7 @@ bool Estimator::solveOrReset(const NavState& pred, FrameReport* report) {
     before.push_back(fr->state());
     bias_before.push_back(fr->baro_bias[0]);
   }
+  const double td_before = td_[0];
   const bool solved = solve(report);
   const std::string problem = solved ? checkHealth(pred) : "the solver failed";
   if (problem.empty()) return true;
@@ -365,6 +390,7 @@ bool Estimator::solveOrReset(const NavState& pred, FrameReport* report) {
     toBlocks(before[k], &window_[k]->x);
     window_[k]->baro_bias[0] = bias_before[k];
   }
+  td_[0] = td_before;
   report->status = FrameStatus::kReset;
   softReset(pred, kSigmaVelocityAfterFailedSolve, problem, report);
   return false;
@@ -410,6 +436,8 @@ void Estimator::bridgeImuGap(const RadarFrame& f, double gap, FrameReport* repor
 void Estimator::installStatePrior(const NavState& s, const Vec15& sigma) {
   prior_ = std::make_shared<StatePrior>(s, Mat15(sigma.cwiseInverse().asDiagonal()));
   prior_blocks_ = {window_.back()->x.pose, window_.back()->x.speed_bias};
+  // t_d keeps its estimate; its prior restarts with the window's.
+  installTimeOffsetPrior();
 }
 
 void Estimator::softReset(const NavState& s, double sigma_velocity, const std::string& why,

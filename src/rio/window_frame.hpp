@@ -13,9 +13,11 @@ namespace rio {
 struct Estimator::WindowFrame {
   long id = 0;
   double t = 0.0;
-  StateBlocks x;                          // the Ceres parameter blocks
-  std::unique_ptr<Preintegration> pre;    // previous frame -> this one (null for the first)
-  Vec3 omega = Vec3::Zero();              // raw gyro rate at t (lever arm of Eq. 9)
+  StateBlocks x;                        // the Ceres parameter blocks
+  std::unique_ptr<Preintegration> pre;  // previous frame -> this one (null for the first)
+  Vec3 omega = Vec3::Zero();            // raw gyro rate at t (lever arm of Eq. 9)
+  Vec3 acc = Vec3::Zero();              // raw specific force at t (time offset: the Doppler's rate)
+  Vec3 alpha = Vec3::Zero();            // [rad/s^2] angular acceleration at t (idem)
   std::vector<RadarPoint> static_points;  // Doppler residuals (Sec. III-C)
   bool standing = false;                  // Doppler: zero velocity
   bool gyro_still = false;                // standing and the IMU did not rotate

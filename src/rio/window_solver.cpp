@@ -26,21 +26,9 @@ PoseManifold* poseManifold() {
 }  // namespace
 
 std::vector<Estimator::FactorRef> Estimator::unaryFactors(const WindowFrame& f) const {
-  std::vector<FactorRef> out;
+  std::vector<FactorRef> out = dopplerFactors(f);
   double* pose = const_cast<double*>(f.x.pose);
   double* sb = const_cast<double*>(f.x.speed_bias);
-  if (cfg_.solver.use_doppler) {
-    // Eq. 9 per static point; the weight (Eq. 10-12) is evaluated at the current estimate
-    // of the radar velocity and held during the solve.
-    const Vec3 v_radar = radarVelocity(f.state(), f.omega);
-    for (const RadarPoint& rp : f.static_points) {
-      const double w = 1.0 / std::sqrt(dopplerVariance(rp.p, v_radar, cfg_.uncertainty));
-      out.push_back(
-          {std::make_shared<DopplerFactor>(rp.p.normalized(), rp.m, f.omega, cfg_.extrinsics, w),
-           loss_,
-           {pose, sb}});
-    }
-  }
   if (f.standing)
     out.push_back(
         {std::make_shared<ZeroVelocityFactor>(cfg_.zero_velocity.sigma_velocity), nullptr, {sb}});
@@ -63,10 +51,7 @@ Estimator::FactorRef Estimator::imuFactor(const WindowFrame& prev, const WindowF
 void Estimator::trackFactors(const Track& t, std::vector<FactorRef>* out) const {
   for (const Observation& o : t.obs)
     for (const auto& f : window_)
-      if (f->id == o.frame)
-        out->push_back({std::make_shared<PointFactor>(o.p, o.W, cfg_.extrinsics),
-                        loss_,
-                        {f->x.pose, const_cast<double*>(t.position.data())}});
+      if (f->id == o.frame) out->push_back(pointFactor(o, *f, t.position));
 }
 
 std::vector<Estimator::FactorRef> Estimator::pointFactors(int* count) const {
@@ -99,13 +84,13 @@ bool Estimator::solve(FrameReport* report) {
     FactorRef walk;
     if (k > 0) factors.push_back(imuFactor(*window_[k - 1], f));
     if (k > 0 && baroWalkFactor(*window_[k - 1], f, &walk)) factors.push_back(std::move(walk));
-    for (FactorRef& r : unaryFactors(f)) {
-      report->doppler_residuals += dynamic_cast<DopplerFactor*>(r.cost.get()) != nullptr;
-      factors.push_back(std::move(r));
-    }
+    if (cfg_.solver.use_doppler)  // one Doppler residual per static point
+      report->doppler_residuals += static_cast<int>(f.static_points.size());
+    for (FactorRef& r : unaryFactors(f)) factors.push_back(std::move(r));
   }
   for (FactorRef& r : pointFactors(&report->point_residuals)) factors.push_back(std::move(r));
   if (prior_) factors.push_back({prior_, nullptr, prior_blocks_});
+  addTimeOffset(&problem, &factors);
   for (const FactorRef& r : factors) problem.AddResidualBlock(r.cost.get(), r.loss.get(), r.blocks);
   if (!prior_) {  // the authors' scheme: the oldest state is held constant
     problem.SetParameterBlockConstant(window_.front()->x.pose);
@@ -158,7 +143,7 @@ std::string Estimator::checkHealth(const NavState& predicted) const {
   for (const auto& f : window_) {
     const NavState s = f->state();
     if (!s.p.allFinite() || !s.q.coeffs().allFinite() || !s.v.allFinite() || !s.ba.allFinite() ||
-        !s.bg.allFinite() || !std::isfinite(f->baro_bias[0]))
+        !s.bg.allFinite() || !std::isfinite(f->baro_bias[0]) || !std::isfinite(td_[0]))
       return "non-finite state after the solve";
   }
   const NavState s = window_.back()->state();
@@ -185,10 +170,9 @@ void Estimator::rejectOutliers(FrameReport* report) {
     for (const Observation& o : t.obs) {
       auto it = frame_of.find(o.frame);
       if (it == frame_of.end()) continue;
-      const PointFactor f(o.p, o.W, cfg_.extrinsics);
-      double const* params[] = {it->second->x.pose, t.position.data()};
+      const FactorRef f = pointFactor(o, *it->second, t.position);
       Vec3 r;
-      f.Evaluate(params, r.data(), nullptr);
+      f.cost->Evaluate(f.blocks.data(), r.data(), nullptr);
       if (r.squaredNorm() > cfg_.association.outlier_chi2) drop.emplace_back(id, o.frame);
     }
   }
@@ -216,6 +200,8 @@ void Estimator::slide() {
     FactorRef walk;  // the barometer bias goes with its state (kept in the prior via the walk)
     if (baroWalkFactor(oldest, next, &walk)) marg.add(walk.cost, walk.loss, walk.blocks);
     if (oldest.has_baro_bias) drop.insert(oldest.baro_bias);
+    // The prior of t_d goes into the marginalisation prior, which carries t_d from then on.
+    if (td_prior_) marg.add(td_prior_, nullptr, {td_});
     for (const FactorRef& r : unaryFactors(oldest)) marg.add(r.cost, r.loss, r.blocks);
     for (auto& [id, t] : tracks_.all()) {
       if (!t.landmark || t.fixed || t.obs.empty() || t.obs.front().frame != oldest.id) continue;
@@ -227,6 +213,7 @@ void Estimator::slide() {
     }
     std::string err;
     std::shared_ptr<MarginalizationPrior> p = marg.marginalize(drop, &err);
+    td_prior_.reset();
     if (p) {
       prior_blocks_ = p->blocks();
       prior_ = std::move(p);
@@ -236,6 +223,7 @@ void Estimator::slide() {
           Vec3::Constant(cfg_.init.sigma_acc_bias), Vec3::Constant(cfg_.init.sigma_gyro_bias);
       prior_ = std::make_shared<StatePrior>(next.state(), Mat15(sigma.cwiseInverse().asDiagonal()));
       prior_blocks_ = {next.x.pose, next.x.speed_bias};
+      installTimeOffsetPrior();
     }
   } else {
     prior_.reset();  // the authors' scheme: next solves hold the new oldest state constant

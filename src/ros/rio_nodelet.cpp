@@ -430,6 +430,12 @@ void RioNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
   stat.add("scans without trigger", ic.unmatched_scans);
   stat.add("trigger sequence restarts", input_->triggerRestarts());
   stat.add("standing frames", c.standing_frames);
+  // t_d: the estimate (time_offset/estimate) or the configured radar_time_offset.
+  stat.add("radar time offset [s]", estimator_->timeOffset());
+  stat.add("radar time offset", estimator_->config().time_offset.estimate
+                                    ? "estimated (prior: radar_time_offset)"
+                                    : "configured (radar_time_offset)");
+  stat.add("frames with the time offset at its bound", c.offset_at_bound);
   stat.add("callback errors", counters_.errors);
   stat.add("input error", estimator_->inputError());
   stat.add("last problem", last_problem_);

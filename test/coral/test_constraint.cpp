@@ -1,6 +1,7 @@
 // The constraint term (coral/constraint.hpp) on point sets whose answer is known: a square
 // room pins every direction by about one wall pair's points; a corridor without ends pins
-// nothing along it (0); its end wall pins that direction by about that wall's points;
+// nothing along it (0); its end wall pins that direction by about that wall's points; a
+// round room pins translation and leaves rotation about its centre free (0);
 // nothing shared gives 0; the value does not depend on the frame. Then the gated verdict: a
 // corridor slid 1.5 m along itself passes CorAl's relative check (Q is flat there) and is
 // rejected by this term, which names itself.
@@ -71,6 +72,21 @@ TEST(Constraint, CorridorWithoutEndsPinsNothingAlongItAndItsEndWallDoes) {
   const ConstraintResult end = registrationConstraint(closed, closed, planar(), tolerance2d());
   EXPECT_GT(end.weakest, 20.0);  // its points away from the corners pin x
   EXPECT_LE(end.weakest, 41.0 + 1e-9);
+}
+
+TEST(Constraint, RoundRoomLeavesRotationAboutItsCentreFree) {
+  Points round;  // radius 4 m, a point every 0.05 m: every normal points at the centre
+  const int n = static_cast<int>(2.0 * M_PI * 4.0 / kStep);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * M_PI * i / n;
+    round.emplace_back(4.0 * std::cos(a), 4.0 * std::sin(a), 0.0);
+  }
+  // (p - c) x n = 0 for every point: turning about the centre moves nothing along a normal.
+  // Without the rotation column the same room would look pinned: translation alone is held by
+  // about half the points along any axis.
+  const ConstraintResult r = registrationConstraint(round, round, planar(), tolerance2d());
+  EXPECT_EQ(r.points, 2 * n);
+  EXPECT_LT(r.weakest, 1e-6 * n);
 }
 
 TEST(Constraint, NothingSharedIsZeroAndTheFrameDoesNotMatter) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "coral_introspection/rio/pose_manifold.hpp"
+#include "coral_introspection/rio/radar_factors.hpp"
 #include "coral_introspection/rio/types.hpp"
 
 namespace rio_test {
@@ -42,6 +43,14 @@ struct Trajectory {
     return s;
   }
 };
+
+// A radar mounted turned and off the body origin (every axis of the Jacobians exercised).
+inline Extrinsics testExtrinsics() {
+  Extrinsics e;
+  e.R = expQ(Vec3(0.3, -2.0, 0.8)).toRotationMatrix();
+  e.t = Vec3(0.1, -0.05, 0.2);
+  return e;
+}
 
 // Plus on a block of `size` doubles (7 = pose manifold, else Euclidean).
 inline void plusBlock(const double* x, const double* d, double* out, int size) {

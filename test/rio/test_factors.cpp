@@ -10,15 +10,10 @@
 
 using namespace coral_introspection::rio;
 using rio_test::jacobianError;
+using rio_test::testExtrinsics;
 using rio_test::Trajectory;
 
 namespace {
-Extrinsics testExtrinsics() {
-  Extrinsics e;
-  e.R = expQ(Vec3(0.3, -2.0, 0.8)).toRotationMatrix();
-  e.t = Vec3(0.1, -0.05, 0.2);
-  return e;
-}
 StateBlocks perturbed(const NavState& s, double k) {
   NavState x = s;
   x.p += k * Vec3(0.1, -0.2, 0.05);

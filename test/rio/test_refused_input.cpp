@@ -7,37 +7,16 @@
 
 #include "coral_introspection/eval/rio_simulation.hpp"
 #include "coral_introspection/rio/estimator.hpp"
+#include "rio/rio_sim_run.hpp"
 
 using namespace coral_introspection;
 
 namespace {
 
-struct RunResult {
-  std::vector<rio::FrameReport> reports;
-  rio::RioCounters counters;
-  std::string input_error;
-  long tracked() const {
-    long n = 0;
-    for (const auto& r : reports) n += r.status == rio::FrameStatus::kTracking;
-    return n;
-  }
-};
+using RunResult = rio_test::SimRun;
 
 RunResult run(const eval::RioSimConfig& sim, const eval::RioSequence& seq) {
-  rio::RioConfig cfg;
-  cfg.extrinsics = sim.extrinsics;
-  cfg.uncertainty.noise = sim.point_noise;
-  rio::Estimator est(cfg);
-  RunResult out;
-  auto add = [&](const std::vector<rio::FrameReport>& r) {
-    out.reports.insert(out.reports.end(), r.begin(), r.end());
-  };
-  eval::replay(
-      seq, [&](const rio::ImuSample& s) { add(est.addImu(s)); },
-      [&](const rio::RadarFrame& f) { add(est.addRadar(f)); });
-  out.counters = est.counters();
-  out.input_error = est.inputError();
-  return out;
+  return rio_test::runSim(rio_test::simConfig(sim), seq);
 }
 
 class RefusedInput : public ::testing::Test {

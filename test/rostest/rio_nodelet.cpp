@@ -176,6 +176,10 @@ TEST(RioNodelet, TiBagGivesOdometryCovarianceTfAndClosesTheLoop) {
   EXPECT_NEAR(std::abs(t.transform.rotation.w), 0.033880048164, 1e-6);
   EXPECT_GT(c.diag_updates, 0);
   EXPECT_EQ(c.diag["callback errors"], "0");
+  // The radar-IMU time offset estimated (rio_offline: 0.0076 s from the prior 0.00925 s).
+  EXPECT_EQ(c.diag["radar time offset"], "estimated (prior: radar_time_offset)");
+  EXPECT_NEAR(std::stod(c.diag["radar time offset [s]"]), 0.0076, 0.002);
+  EXPECT_EQ(c.diag["frames with the time offset at its bound"], "0");
 }
 
 // The bag played twice in a row (`rosbag play -l`; the soak scripts/bench/soak_rio.sh found this):
@@ -261,9 +265,9 @@ sensor_msgs::PointCloud2 scanAt(double t, int n, bool with_velocity, const std::
 // reflectors at 10 Hz (2 ms before its IMU sample), paced at 10x real time.
 void playStanding(const ros::Publisher& imu, const ros::Publisher& radar, double t0, double t1,
                   bool with_velocity, int points, const std::string& radar_frame,
-                  double gyro_z = 0.0) {
+                  double gyro_z = 0.0, double imu_shift = 0.0) {
   for (double t = t0; t < t1; t += 0.005) {
-    imu.publish(imuAt(t, gyro_z));
+    imu.publish(imuAt(t + imu_shift, gyro_z));
     if (std::lround((t - t0) / 0.005) % 20 == 19)
       radar.publish(scanAt(t - 0.002, points, with_velocity, radar_frame));
     ros::WallDuration(0.0005).sleep();
@@ -475,11 +479,20 @@ TEST(RioNodelet, ConfigErrorsFailTheLoad) {
 // estimator puts a barometer residual on the frames that have samples (diagnostics count
 // both). The samples of a 3 s standing sequence are sent first; the estimator keeps the
 // newest 2 s of them until the frames that use them arrive.
+namespace {
+
+// Loads RioNodelet as `ns`/rio with identity extrinsics and one more config line; true when
+// the manager loaded it.
+bool loadIdentityRig(const std::string& ns, const std::string& line) {
+  const std::string yaml = "extrinsics: {translation: [0, 0, 0], rotation: [0, 0, 0, 1]}\n" + line;
+  return ros::service::waitForService("/rio_test_manager/load_nodelet", ros::Duration(20.0)) &&
+         loadWithConfig(ns + "/rio", yaml.c_str());
+}
+
+}  // namespace
+
 TEST(RioNodelet, BarometerIsSubscribedAndUsed) {
-  ASSERT_TRUE(ros::service::waitForService("/rio_test_manager/load_nodelet", ros::Duration(20.0)));
-  ASSERT_TRUE(loadWithConfig("/baro/rio",
-                             "extrinsics: {translation: [0, 0, 0], rotation: [0, 0, 0, 1]}\n"
-                             "barometer: {enabled: true}\n"));
+  ASSERT_TRUE(loadIdentityRig("/baro", "barometer: {enabled: true}\n"));
   Harness h("/baro", "/baro/rio");
   ros::Publisher pb = h.nh.advertise<sensor_msgs::FluidPressure>("/baro/baro", 500);
   waitFor(h.nh, pb);
@@ -498,6 +511,27 @@ TEST(RioNodelet, BarometerIsSubscribedAndUsed) {
   std::lock_guard<std::mutex> l(h.c.m);
   ASSERT_FALSE(h.c.odom.empty());
   EXPECT_NEAR(h.c.odom.back().pose.pose.position.z, 0.0, 0.05);  // standing: no height change
+}
+
+// IMU stamps 0.5 s ahead of the radar's with time_offset/estimate: no offset within the bound
+// (0.1 s) and no radar latency up to time_offset/max_latency (0.3 s) explains the arrival lag,
+// so the input is refused (ERROR diagnostics) after 20 frames; no odometry after that.
+TEST(RioNodelet, ImuClockFarAheadIsRefusedInDiagnostics) {
+  ASSERT_TRUE(loadIdentityRig("/clock", "time_offset: {estimate: true}\n"));
+  Harness h("/clock", "/clock/rio");
+  playStanding(h.pi, h.pr, 5000.0, 5004.0, true, 30, "radar", 0.0, 0.5);
+  ros::WallDuration(2.5).sleep();
+  std::lock_guard<std::mutex> l(h.c.m);
+  EXPECT_EQ(h.c.level, diagnostic_msgs::DiagnosticStatus::ERROR) << h.c.summary;
+  EXPECT_NE(h.c.summary.find("input refused, no odometry: radar-IMU time offset: when a radar "
+                             "frame arrives, the newest IMU stamp minus the frame time is 0.5"),
+            std::string::npos)
+      << h.c.summary;
+  EXPECT_NE(h.c.summary.find("(IMU stamps late?)"), std::string::npos) << h.c.summary;
+  // 40 frames; the first 20 are judged together (2 s), the odometry starts after 1 s of rest.
+  EXPECT_LE(h.c.odom.size(), 15u);
+  EXPECT_GE(std::stol(h.c.diag["rejected frames"]), 15);
+  EXPECT_EQ(h.c.diag["callback errors"], "0");
 }
 
 // main(): test/rostest/rostest_main.cpp.

@@ -9,6 +9,7 @@
 #include "coral_introspection/rio/barometer.hpp"
 #include "coral_introspection/rio/preintegration.hpp"
 #include "coral_introspection/rio/radar_factors.hpp"
+#include "coral_introspection/rio/time_offset.hpp"
 
 namespace coral_introspection {
 namespace rio {
@@ -115,8 +116,11 @@ struct HealthConfig {
 
 struct RioConfig {
   ImuNoiseConfig imu;
-  Extrinsics extrinsics;           // radar pose in the body (IMU) frame
-  double radar_time_offset = 0.0;  // [s] added to every radar stamp
+  Extrinsics extrinsics;  // radar pose in the body (IMU) frame
+  // [s] added to every radar stamp: the radar measurement time on the IMU clock minus the
+  // stamp; with time_offset/estimate the prior of the estimate (time_offset.hpp).
+  double radar_time_offset = 0.0;
+  TimeOffsetConfig time_offset;
   UncertaintyConfig uncertainty;
   FrontEndConfig front_end;
   AssociationConfig association;

@@ -1,11 +1,11 @@
 // RioConfig from a parameter tree (config/param_tree.hpp, read from a YAML file): the one
 // loader used by rio_offline, the ROS-free tools and RioNodelet (its config_file). Keys mirror
 // the config structs: imu/..., extrinsics/translation [x, y, z], extrinsics/rotation
-// [qx, qy, qz, qw], radar_time_offset, uncertainty/..., front_end/..., association/...,
-// solver/..., init/..., zero_velocity/..., health/..., barometer/.... Missing settings keep their
-// defaults, except the extrinsics (no default is right for a sensor rig: identity would be a
-// guess). A group or key no setting reads is an error naming the nearest valid name, as are
-// duplicate keys (config/yaml_tree.hpp). Never throws.
+// [qx, qy, qz, qw], radar_time_offset, time_offset/..., uncertainty/..., front_end/...,
+// association/..., solver/..., init/..., zero_velocity/..., health/..., barometer/.... Missing
+// settings keep their defaults, except the extrinsics (no default is right for a sensor rig:
+// identity would be a guess). A group or key no setting reads is an error naming the nearest
+// valid name, as are duplicate keys (config/yaml_tree.hpp). Never throws.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -9,6 +9,7 @@
 
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
+#include <ceres/problem.h>
 
 #include <deque>
 #include <memory>
@@ -39,6 +40,7 @@ struct FrameReport {
   int landmarks = 0, map_points = 0, point_residuals = 0, doppler_residuals = 0, outliers = 0;
   int iterations = 0;
   double final_cost = 0.0, solve_ms = 0.0;
+  double time_offset = 0.0;  // [s] radar-IMU offset t_d after the frame (time_offset.hpp)
   bool has_covariance = false;
   Eigen::Matrix<double, 15, 15> covariance;  // [dp, dtheta (body), dv, dba, dbg] when asked
   std::string message;                       // why a frame was rejected or the window reset
@@ -49,9 +51,10 @@ struct RioCounters {
   long frames = 0, tracked = 0, resets = 0, failed_solves = 0, rejected_frames = 0;
   long imu_out_of_order = 0, time_jumps = 0, imu_gaps = 0, empty_scans = 0, no_doppler = 0;
   long standing_frames = 0;
-  long gap_bridged = 0;  // IMU-gap frames placed with the Doppler velocity (subset of imu_gaps)
-  long baro_frames = 0;  // frames with a barometer residual (barometer/enabled)
-  long bad_baro = 0;     // barometer samples dropped (non-finite, not positive, out of order)
+  long gap_bridged = 0;      // IMU-gap frames placed with the Doppler velocity (subset of imu_gaps)
+  long baro_frames = 0;      // frames with a barometer residual (barometer/enabled)
+  long bad_baro = 0;         // barometer samples dropped (non-finite, not positive, out of order)
+  long offset_at_bound = 0;  // tracked frames with the time offset estimate at its bound
 };
 
 class Estimator {
@@ -82,6 +85,9 @@ class Estimator {
   // than a confident wrong one.
   const std::string& inputError() const { return input_error_; }
   const RioConfig& config() const { return cfg_; }
+  // The radar-IMU time offset t_d [s]: the estimate with time_offset/estimate, else the
+  // configured radar_time_offset.
+  double timeOffset() const { return td_[0]; }
 
  private:
   struct WindowFrame;
@@ -117,6 +123,19 @@ class Estimator {
   FactorRef imuFactor(const WindowFrame& prev, const WindowFrame& f) const;
   void trackFactors(const Track& t, std::vector<FactorRef>* out) const;
   std::vector<FactorRef> pointFactors(int* count) const;
+  FactorRef pointFactor(const Observation& o, const WindowFrame& f, const Vec3& landmark) const;
+  // Time offset (time_offset.hpp, estimator_time_offset.cpp): r moved by t_d with its rate
+  // (r unchanged without time_offset/estimate), the prior of t_d, the bound check.
+  FactorRef shifted(FactorRef r, const Eigen::VectorXd& rate) const;
+  std::vector<FactorRef> dopplerFactors(const WindowFrame& f) const;
+  void installTimeOffsetPrior();
+  void addTimeOffset(ceres::Problem* problem, std::vector<FactorRef>* factors);
+  void judgeTimeOffset(double dt);
+  void judgeArrivalLag(double lag);
+  // The radar pose at the measurement time (the frame's time moved by t_d - radar_time_offset
+  // with the radar's velocity and rate), where the frame's points were seen: the association
+  // predicts the tracks there.
+  Eigen::Isometry3d measurementPose(const NavState& s, const Vec3& omega) const;
   // Barometer (barometer.hpp): the frame's mean height and bias state, the bias walk.
   void attachBaro(double t_from, const WindowFrame* prev, WindowFrame* f);
   bool baroWalkFactor(const WindowFrame& prev, const WindowFrame& f, FactorRef* out) const;
@@ -137,6 +156,11 @@ class Estimator {
   std::vector<double*> prior_blocks_;
   Tracks tracks_;
   std::shared_ptr<ceres::LossFunction> loss_;
+  double td_[1] = {0.0};                           // t_d, a Ceres block with estimation
+  std::shared_ptr<ceres::CostFunction> td_prior_;  // until marginalised into prior_
+  double td_at_bound_ = 0.0;                       // [s] of tracked frames at the bound
+  std::deque<double> arrival_lag_;                 // newest IMU stamp - frame time, recent
+  bool imu_since_frame_ = false;                   // IMU samples since the last radar frame
   RioCounters counters_;
   long next_frame_id_ = 0;
   double last_frame_t_ = -1e300;  // newest radar time seen (processed or initialising)

@@ -51,6 +51,20 @@ std::string RioRun::summary(double wall_seconds, double duration) const {
   return s.str();
 }
 
+std::string timeOffsetSummary(const rio::Estimator& est) {
+  const rio::RioConfig& c = est.config();
+  std::ostringstream s;
+  s << "radar-IMU time offset: ";
+  if (!c.time_offset.estimate) {
+    s << est.timeOffset() << " s (configured, not estimated)\n";
+    return s.str();
+  }
+  s << "estimated " << est.timeOffset() << " s (prior " << c.radar_time_offset << " +- "
+    << c.time_offset.sigma << " s, bound +-" << c.time_offset.max_abs << " s; at the bound on "
+    << est.counters().offset_at_bound << " frames)\n";
+  return s.str();
+}
+
 bool RioRun::writeReports(const std::string& path, std::string* error) const {
   std::ofstream out(path);
   if (!out) {
@@ -59,7 +73,7 @@ bool RioRun::writeReports(const std::string& path, std::string* error) const {
   }
   out << "t,status,px,py,pz,qx,qy,qz,qw,vx,vy,vz,bax,bay,baz,bgx,bgy,bgz,standing,points,"
          "static_points,matched,created,map_matched,landmarks,map_points,point_residuals,"
-         "doppler_residuals,outliers,iterations,final_cost,solve_ms,message\n";
+         "doppler_residuals,outliers,iterations,final_cost,solve_ms,time_offset,message\n";
   for (const rio::FrameReport& r : reports_) {
     const rio::NavState& s = r.state;
     out << std::fixed << std::setprecision(6) << r.t << ',' << rio::toString(r.status);
@@ -69,7 +83,8 @@ bool RioRun::writeReports(const std::string& path, std::string* error) const {
     out << ',' << r.standing << ',' << r.points << ',' << r.static_points << ',' << r.matched << ','
         << r.created << ',' << r.map_matched << ',' << r.landmarks << ',' << r.map_points << ','
         << r.point_residuals << ',' << r.doppler_residuals << ',' << r.outliers << ','
-        << r.iterations << ',' << r.final_cost << ',' << r.solve_ms << ",\"" << r.message << "\"\n";
+        << r.iterations << ',' << r.final_cost << ',' << r.solve_ms << ',' << r.time_offset << ",\""
+        << r.message << "\"\n";
   }
   return static_cast<bool>(out);
 }

@@ -219,7 +219,7 @@ RioSequence simulateRio(const RioSimConfig& c) {
               [](const auto& a, const auto& b) { return a.first < b.first; });
     if (static_cast<int>(visible.size()) > c.max_points) visible.resize(c.max_points);
     rio::RadarFrame f;
-    f.t = t;
+    f.t = t - c.radar_delay;
     auto emit = [&](const coral::Vec3& p, double extra_vr) {
       const double r = p.norm(), az = std::atan2(p.y(), p.x()), el = std::asin(p.z() / r);
       const double rn = r + pn.sigma_range * N(rng), azn = az + pn.sigma_azimuth * N(rng),
@@ -240,8 +240,10 @@ RioSequence simulateRio(const RioSimConfig& c) {
            speed);
     }
     seq.radar.push_back(std::move(f));
-    seq.ground_truth.push_back(kin.pose);
+    if (c.radar_delay == 0.0) seq.ground_truth.push_back(kin.pose);
   }
+  if (c.radar_delay != 0.0)
+    for (const rio::ImuSample& s : seq.imu) seq.ground_truth.push_back(simulatedPose(c, s.t));
   if (c.barometer) simulateBarometer(c, &seq);
   return seq;
 }

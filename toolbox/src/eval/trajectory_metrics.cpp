@@ -103,7 +103,11 @@ LoopError loopError(const std::vector<StampedPose>& tr) {
     const coral::Mat3 R = q.toRotationMatrix();
     return std::atan2(R(1, 0), R(0, 0));
   };
-  double dy = yaw(tr.back().q) - yaw(tr.front().q);
+  const double yaw0 = yaw(tr.front().q);
+  // The start-heading frame: the TI loop's independent end pose is given in it.
+  e.x = std::cos(yaw0) * d.x() + std::sin(yaw0) * d.y();
+  e.y = -std::sin(yaw0) * d.x() + std::cos(yaw0) * d.y();
+  double dy = yaw(tr.back().q) - yaw0;
   dy = std::remainder(dy, 2.0 * M_PI);
   e.yaw_deg = dy * 180.0 / M_PI;
   return e;

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double duration = seq.imu.empty() ? 0.0 : seq.imu.back().t - seq.imu.front().t;
   std::cout << run.summary(wall, duration);
+  std::cout << eval::timeOffsetSummary(est);
   if (!output.empty() && !eval::writeTum(output, run.trajectory(), &err)) {
     std::cerr << "coral_rio_run: " << err << "\n";
     return 1;

@@ -31,5 +31,8 @@ class RioRun {
   std::vector<double> waiting_;  // frames before the initialisation
 };
 
+// One line: the radar-IMU time offset (estimated, with its prior and bound, or configured).
+std::string timeOffsetSummary(const rio::Estimator& est);
+
 }  // namespace eval
 }  // namespace coral_introspection

@@ -45,6 +45,10 @@ struct RioSimConfig {
   double baro_bias = 0.4;          // [m] initial bias (reading minus true height)
   double baro_bias_walk = 0.0005;  // [m / sqrt(s)]
   double site_altitude = 300.0;    // [m] of the world origin (sets the pressure level)
+  // [s] radar-IMU time offset: each radar frame is stamped this much before its measurement
+  // time (the estimator's t_d is then +radar_delay). With a delay the ground truth is given
+  // at every IMU sample (the odometry's frame times then differ from the measurement times).
+  double radar_delay = 0.0;
   unsigned seed = 1;
 
   // The two sequences of the evaluation (doc/rio.md): TI-like hand-held loop in a room,

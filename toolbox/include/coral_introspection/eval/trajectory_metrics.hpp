@@ -28,6 +28,7 @@ TrajectoryErrors trajectoryErrors(const std::vector<StampedPose>& estimate,
 struct LoopError {
   double horizontal = 0.0, vertical = 0.0;  // [m] last position minus first
   double yaw_deg = 0.0;                     // yaw(last) - yaw(first), wrapped to (-180, 180]
+  double x = 0.0, y = 0.0;  // [m] last minus first position in the first pose's heading frame
 };
 LoopError loopError(const std::vector<StampedPose>& trajectory);
 
