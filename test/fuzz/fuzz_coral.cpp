@@ -11,10 +11,12 @@
 // (kPairBlock, all zero in the older corpus inputs = computeCoral only) chooses how
 // CoralPair is driven: at two fuzzed poses (translations up to 1e6 m, any rotation, about z
 // only in 2D) with the probe of evaluate() equal to evaluateProbe() and a relative check of
-// fuzzed tolerance, or at the identity, where it must count what computeCoral counts.
+// fuzzed tolerance (and the constraint term there), or at the identity, where it must count
+// what computeCoral counts.
 #include <cmath>
 #include <limits>
 
+#include "coral_introspection/coral/constraint.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/relative_check.hpp"
@@ -246,6 +248,13 @@ void fuzzPair(FuzzInput& in, uint8_t mode, const Scan& a, const Scan& b, const C
   checkSameAggregate(probe, pair.evaluateProbe(T1));
   if (mode == 1) {
     checkRelative(relativeCheck(pair, T1, probe, cfg.dimension, tol, rc), probe, cfg.dimension, rc);
+    // The loop gate's constraint term on the same filtered points at the same pose: a
+    // defined, non-negative number and no more shared points than scored ones.
+    Points b_in_a;
+    for (const Vec3& p : pair.points(1)) b_in_a.push_back(T1 * p);
+    const ConstraintResult c = registrationConstraint(pair.points(0), b_in_a, cfg, tol);
+    CORAL_FUZZ_CHECK(c.valid && std::isfinite(c.weakest) && c.weakest >= 0.0 && c.points >= 0 &&
+                     static_cast<std::size_t>(c.points) <= pair.points(0).size() + b_in_a.size());
   } else {
     // Without per-point output when asked (what self-calibration's neighbour poses use).
     const bool per_point = probe_choice & 0x40;
