@@ -4,7 +4,7 @@
 #   1. every test through ctest (gtest of the libraries and the ROS layer, rostest of the
 #      nodelet);
 #   2. scripts/ci/check_format.sh: every tracked C++ file formatted by .clang-format;
-#   3. scripts/ci/mutation_check.sh: six one-line bugs, one at a time in a copy of the sources
+#   3. scripts/ci/mutation_check.sh: one-line bugs (its MUTATIONS list), one at a time in a copy of the sources
 #      (its own kept build folder, ${CORAL_WS}_mutation: one library + test rebuild per
 #      mutant); fails when a pattern no longer matches exactly once or a mutant survives;
 #   4. scripts/ci/check_install.sh: `catkin_make install`, then the nodelet launched from the
