@@ -348,9 +348,12 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
   fs.relative = coral::decideRelative(0.4, offsets, {0.9, 0.8, 0.8, 0.8, 0.7, 0.7}, cfg.relative);
   fs.free_space.valid = true;
   fs.free_space.conflict = 0.25;
-  coral::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
-                        coral::gateTerms(fs));
-  const auto mf = ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
+  auto gatedMessage = [&] {  // the gated verdict of fs's terms, as a message
+    coral::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
+                          coral::gateTerms(fs));
+    return ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
+  };
+  const auto mf = gatedMessage();
   EXPECT_TRUE(mf.valid);
   EXPECT_FALSE(mf.aligned);
   EXPECT_DOUBLE_EQ(mf.free_space_conflict, 0.25);
@@ -363,9 +366,7 @@ TEST(ToMessage, CarriesToleranceHintAndFlatAxes) {
   fs.free_space.conflict = 0.05;
   fs.constraint.valid = true;
   fs.constraint.weakest = 0.02;
-  coral::combineVerdict(gated.method, fs.classifier, fs.relative, gated.relative, &fs, gated.gate,
-                        coral::gateTerms(fs));
-  const auto mc = ros_adapters::toMessage(fs, gated, h, ros::Time(1.0), ros::Time(2.0));
+  const auto mc = gatedMessage();
   EXPECT_FALSE(mc.aligned);
   EXPECT_DOUBLE_EQ(mc.constraint, 0.02);
   EXPECT_NE(mc.rejected_by.find("constraint 0.02 < 0.3"), std::string::npos) << mc.rejected_by;
