@@ -94,15 +94,15 @@ double weakestDirection(const std::vector<Shared>& pts, int dim, double k) {
 
 }  // namespace
 
-ConstraintResult registrationConstraint(const Points& a, const Points& b_in_a,
-                                        const CoralConfig& coral,
+ConstraintResult registrationConstraint(const Points& a, const Points& b,
+                                        const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,
                                         const ToleranceConfig& tolerance) {
   ConstraintResult res;
-  Points fa, fb;  // finite points only (the grid's precondition)
+  Points fa, fb;  // finite points only (the grid's precondition), b's in a's frame
   for (const Vec3& p : a)
     if (p.allFinite()) fa.push_back(p);
-  for (const Vec3& p : b_in_a)
-    if (p.allFinite()) fb.push_back(p);
+  for (const Vec3& p : b)
+    if (p.allFinite()) fb.push_back(T_a_b * p);
   const NeighbourGrid grid(fa, fb, coral.maxRadius(), coral.dimension);
   const double k = tolerance.rotation_deg * M_PI / 180.0 / tolerance.translation;
   const std::vector<Shared> sa = sharedPoints(grid, fa, 0, fa.size(), coral);

@@ -184,12 +184,9 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   if (cfg.gate.max_free_space < 1.0 || cfg.measure_gate_terms)
     v.free_space = freeSpaceConflict(pair.points(0), pair.origin(0), pair.points(1), pair.origin(1),
                                      T_a_b, coral.dimension, cfg.free_space);
-  if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms) {
-    Points b_in_a;
-    b_in_a.reserve(pair.points(1).size());
-    for (const Vec3& p : pair.points(1)) b_in_a.push_back(T_a_b * p);
-    v.constraint = registrationConstraint(pair.points(0), b_in_a, coral, cfg.tolerance);
-  }
+  if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms)
+    v.constraint =
+        registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral, cfg.tolerance);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }

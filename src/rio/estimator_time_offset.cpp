@@ -6,11 +6,11 @@
 // explains, refuse the input. Frames keep the time stamp + radar_time_offset.
 #include <ceres/ceres.h>
 
-#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/rio/estimator.hpp"
 #include "coral_introspection/rio/point_uncertainty.hpp"
 #include "coral_introspection/rio/time_offset.hpp"
@@ -110,9 +110,8 @@ void Estimator::judgeArrivalLag(double lag) {
   arrival_lag_.push_back(lag);
   if (arrival_lag_.size() > kFrames) arrival_lag_.pop_front();
   if (arrival_lag_.size() < kFrames) return;
-  std::vector<double> v(arrival_lag_.begin(), arrival_lag_.end());
-  std::nth_element(v.begin(), v.begin() + kFrames / 2, v.end());
-  const double median = v[kFrames / 2];
+  // A measured value (the upper middle one of the even count), as the refusal quotes it.
+  const double median = coral::quantile({arrival_lag_.begin(), arrival_lag_.end()}, 0.5);
   if (median >= -c.max_abs && median <= c.max_latency + c.max_abs) return;
   std::ostringstream s;
   s << std::setprecision(3) << "radar-IMU time offset: when a radar frame arrives, the newest "

@@ -43,6 +43,8 @@ Points transformed(const Points& pts, const Eigen::Isometry3d& T) {
   return out;
 }
 
+const Eigen::Isometry3d kIdentity = Eigen::Isometry3d::Identity();  // b given in a's frame
+
 }  // namespace
 
 TEST(Constraint, SquareRoomIsPinnedByAWallPairInEveryDirection) {
@@ -51,7 +53,7 @@ TEST(Constraint, SquareRoomIsPinnedByAWallPairInEveryDirection) {
   wall(5, -5, 5, 5, &room);
   wall(5, 5, -5, 5, &room);
   wall(-5, 5, -5, -5, &room);
-  const ConstraintResult r = registrationConstraint(room, room, planar(), tolerance2d());
+  const ConstraintResult r = registrationConstraint(room, room, kIdentity, planar(), tolerance2d());
   ASSERT_TRUE(r.valid);
   // Translation along x: the two walls of normal x, 2 x 201 points of weight 1, less the
   // corners (points within 0.5 m of a corner see both walls: weight < 1). Rotation about the
@@ -65,11 +67,13 @@ TEST(Constraint, CorridorWithoutEndsPinsNothingAlongItAndItsEndWallDoes) {
   Points corridor;  // 2 m wide, 40 m long
   wall(-20, -1, 20, -1, &corridor);
   wall(-20, 1, 20, 1, &corridor);
-  const ConstraintResult open = registrationConstraint(corridor, corridor, planar(), tolerance2d());
+  const ConstraintResult open =
+      registrationConstraint(corridor, corridor, kIdentity, planar(), tolerance2d());
   EXPECT_LT(open.weakest, 1e-6);  // every normal is +-y: x is free
   Points closed = corridor;
   wall(20, -1, 20, 1, &closed);  // the end wall: 41 points of normal x
-  const ConstraintResult end = registrationConstraint(closed, closed, planar(), tolerance2d());
+  const ConstraintResult end =
+      registrationConstraint(closed, closed, kIdentity, planar(), tolerance2d());
   EXPECT_GT(end.weakest, 20.0);  // its points away from the corners pin x
   EXPECT_LE(end.weakest, 41.0 + 1e-9);
 }
@@ -84,7 +88,8 @@ TEST(Constraint, RoundRoomLeavesRotationAboutItsCentreFree) {
   // (p - c) x n = 0 for every point: turning about the centre moves nothing along a normal.
   // Without the rotation column the same room would look pinned: translation alone is held by
   // about half the points along any axis.
-  const ConstraintResult r = registrationConstraint(round, round, planar(), tolerance2d());
+  const ConstraintResult r =
+      registrationConstraint(round, round, kIdentity, planar(), tolerance2d());
   EXPECT_EQ(r.points, 2 * n);
   EXPECT_LT(r.weakest, 1e-6 * n);
 }
@@ -95,14 +100,16 @@ TEST(Constraint, NothingSharedIsZeroAndTheFrameDoesNotMatter) {
   wall(4, 0, 4, 3, &room);
   wall(4, 3, 0, 3, &room);
   const Points far = transformed(room, se2(50.0, 0.0, 0.0));
-  const ConstraintResult none = registrationConstraint(room, far, planar(), tolerance2d());
+  const ConstraintResult none =
+      registrationConstraint(room, far, kIdentity, planar(), tolerance2d());
   EXPECT_TRUE(none.valid);
   EXPECT_EQ(none.points, 0);
   EXPECT_EQ(none.weakest, 0.0);
-  const ConstraintResult here = registrationConstraint(room, room, planar(0.52), tolerance2d());
+  const ConstraintResult here =
+      registrationConstraint(room, room, kIdentity, planar(0.52), tolerance2d());
   const Eigen::Isometry3d T = se2(3.0, -7.0, 0.6);
   const ConstraintResult moved = registrationConstraint(transformed(room, T), transformed(room, T),
-                                                        planar(0.52), tolerance2d());
+                                                        kIdentity, planar(0.52), tolerance2d());
   EXPECT_GT(here.weakest, 1.0);
   EXPECT_NEAR(moved.weakest, here.weakest, 1e-6 * here.weakest);
 }

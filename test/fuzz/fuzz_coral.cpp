@@ -250,11 +250,10 @@ void fuzzPair(FuzzInput& in, uint8_t mode, const Scan& a, const Scan& b, const C
     checkRelative(relativeCheck(pair, T1, probe, cfg.dimension, tol, rc), probe, cfg.dimension, rc);
     // The loop gate's constraint term on the same filtered points at the same pose: a
     // defined, non-negative number and no more shared points than scored ones.
-    Points b_in_a;
-    for (const Vec3& p : pair.points(1)) b_in_a.push_back(T1 * p);
-    const ConstraintResult c = registrationConstraint(pair.points(0), b_in_a, cfg, tol);
+    const ConstraintResult c = registrationConstraint(pair.points(0), pair.points(1), T1, cfg, tol);
     CORAL_FUZZ_CHECK(c.valid && std::isfinite(c.weakest) && c.weakest >= 0.0 && c.points >= 0 &&
-                     static_cast<std::size_t>(c.points) <= pair.points(0).size() + b_in_a.size());
+                     static_cast<std::size_t>(c.points) <=
+                         pair.points(0).size() + pair.points(1).size());
   } else {
     // Without per-point output when asked (what self-calibration's neighbour poses use).
     const bool per_point = probe_choice & 0x40;

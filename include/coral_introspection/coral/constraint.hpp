@@ -31,7 +31,8 @@ struct ConstraintResult {
   int points = 0;  // shared surface points used (both scans)
 };
 
-// a and b_in_a in one frame (a's; b already moved by the pose). A point is shared when it has
+// a and b each in their own sensor frame, b moved into a's frame by T_a_b (as
+// freeSpaceConflict takes them). A point is shared when it has
 // coral.min_neighbours points of its own scan and coral.min_neighbours_other of the other
 // within coral.maxRadius() (CorAl's overlap); its normal is the least direction of its own
 // neighbourhood's covariance, weighted by how line-like (2D) or plane-like (3D) that is
@@ -39,8 +40,9 @@ struct ConstraintResult {
 // is about the centroid of the shared points. dimension 2: x, y, yaw (3 x 3); 3: 6 x 6. At
 // most kMaxQueries points per scan are used (a deterministic stride): bounded work on dense
 // 3D clouds. Never throws; non-finite points are skipped.
-ConstraintResult registrationConstraint(const Points& a, const Points& b_in_a,
-                                        const CoralConfig& coral, const ToleranceConfig& tolerance);
+ConstraintResult registrationConstraint(const Points& a, const Points& b,
+                                        const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,
+                                        const ToleranceConfig& tolerance);
 
 }  // namespace coral
 }  // namespace coral_introspection

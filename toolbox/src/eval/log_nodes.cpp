@@ -64,7 +64,8 @@ bool relationGraph(const LogNodes& nodes, const coral::Isometries& T_world_odom,
                    const std::vector<Relation>& relations, int max_lines, coral::Isometries* poses,
                    RelationGraphFigures* figures, std::string* error) {
   figures->corrected = relationError(nodes, *poses, relations, max_lines);
-  std::vector<PoseGraphEdge> edges = odometryEdges(T_world_odom, 0.1, 0.03);
+  std::vector<PoseGraphEdge> edges =
+      odometryEdges(T_world_odom, kLogOdometrySigmaT, kLogOdometrySigmaR);
   for (const Relation& r : relations) {
     int k1, k2;
     Eigen::Isometry3d A1, A2;
@@ -74,13 +75,9 @@ bool relationGraph(const LogNodes& nodes, const coral::Isometries& T_world_odom,
     edges.push_back({k1, k2, A1 * r.T_1_2 * A2.inverse(), 0.05, 0.01, true});
     ++figures->edges;
   }
-  PoseGraphConfig cfg;
-  cfg.dimension = 2;
-  cfg.huber_loss = 1.0;
-  cfg.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
   *poses = T_world_odom;
   PoseGraphResult res;
-  if (!optimizePoseGraph(edges, cfg, poses, &res)) {
+  if (!optimizePoseGraph(edges, robustContinuationConfig(2), poses, &res)) {
     if (error) *error = "relation graph: " + res.error;
     return false;
   }

@@ -75,6 +75,14 @@ struct PlanarEdgeCost {
 
 }  // namespace
 
+PoseGraphConfig robustContinuationConfig(int dimension) {
+  PoseGraphConfig c;
+  c.dimension = dimension;
+  c.huber_loss = 1.0;
+  c.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
+  return c;
+}
+
 std::string PoseGraphConfig::validate() const {
   return coral::Problems()
       .require(dimension == 2 || dimension == 3, "dimension", "2 or 3", dimension)

@@ -49,11 +49,11 @@ constexpr const char* kUsage =
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
 // Edge uncertainties of the graph [m], [rad]: keyframe odometry (lidar-inertial) is good to a
-// few cm per keyframe; wheel odometry between corrected CARMEN scans (~1 m apart) to ~0.1 m
-// and a few degrees; a registered loop edge to about the tolerance's tenth. Huber (whitened
-// units) on loop edges, as back ends with robust kernels use (hdl_graph_slam's Huber 1.0).
+// few cm per keyframe; wheel odometry between corrected CARMEN scans (~1 m apart):
+// kLogOdometrySigmaT/R; a registered loop edge to about the tolerance's tenth. Huber on loop
+// edges and the continuation: eval::robustContinuationConfig.
 struct GraphSettings {
-  double odom_t = 0.05, odom_r = 0.01, loop_t = 0.05, loop_r = 0.01, huber = 1.0;
+  double odom_t = 0.05, odom_r = 0.01, loop_t = 0.05, loop_r = 0.01;
 };
 
 // A candidate and the one CorAl evaluation every CorAl gate decides from.
@@ -124,8 +124,8 @@ int main(int argc, char** argv) {
     if (!eval::loadCarmenLoopSet(carmen, corrected, eval::relationsPath(carmen), cand_cfg, 30,
                                  kAttachLines, &set, &err))
       return fail(err);
-    graph.odom_t = 0.1;
-    graph.odom_r = 0.03;
+    graph.odom_t = eval::kLogOdometrySigmaT;
+    graph.odom_r = eval::kLogOdometrySigmaR;
     const eval::RelationGraphFigures& f = set.figures;
     std::printf(
         "reference: odometry + %d benchmark relations (relation error %.3f m / %.2f deg; the "
@@ -183,11 +183,8 @@ int main(int argc, char** argv) {
   std::printf("%s: %zu scans; %d true and %d false loop candidates (%s rows)\n",
               keyframes.empty() ? carmen.c_str() : keyframes.c_str(), scans.size(), n_true, n_false,
               rows.c_str());
-  eval::PoseGraphConfig pg;
-  pg.dimension = dim;
-  pg.huber_loss = graph.huber;
   // Continuation: the CARMEN logs' raw odometry starts the graph metres and tens of degrees off.
-  pg.loop_sigma_schedule = {100.0, 30.0, 10.0, 3.0};
+  const eval::PoseGraphConfig pg = eval::robustContinuationConfig(dim);
   const auto odom_edges = eval::odometryEdges(odom, graph.odom_t, graph.odom_r);
   const double ate_odom = eval::absoluteTrajectoryError(odom, ref, dim);
   // CARMEN: the benchmark's relation error of the graph too (every relation of the log, loop

@@ -44,13 +44,16 @@ struct RelationError {
 RelationError relationError(const LogNodes& nodes, const coral::Isometries& T_world_node,
                             const std::vector<Relation>& relations, int max_lines);
 
+// Sigmas of the raw wheel odometry between consecutive graph nodes (~1 m apart) [m], [rad]:
+// the relation graph's and coral_loop_eval's odometry edges on CARMEN logs.
+constexpr double kLogOdometrySigmaT = 0.1, kLogOdometrySigmaR = 0.03;
+
 // The benchmark's ground truth as a trajectory of the graph nodes: the raw odometry between
-// consecutive nodes (0.1 m, 0.03 rad) and every relation whose scans attach within max_lines
-// as an edge (0.05 m, 0.01 rad; Huber 1), optimised from the odometry with the loop-sigma
-// continuation of coral_loop_eval. The corrected poses of the Radish logs are one SLAM
-// result: they reproduce the relations to 3-5 cm median but disagree with them by
-// decimetres (ACES) to metres (Intel) in places; labels and ATE against this graph measure
-// against the relations. False with *error when the optimisation fails.
+// consecutive nodes (kLogOdometrySigmaT/R) and every relation whose scans attach within max_lines
+// as an edge (0.05 m, 0.01 rad), optimised from the odometry with robustContinuationConfig. The
+// corrected poses of the Radish logs are one SLAM result: they reproduce the relations to 3-5 cm
+// median but disagree with them by decimetres (ACES) to metres (Intel) in places; labels and ATE
+// against this graph measure against the relations. False with *error when the optimisation fails.
 struct RelationGraphFigures {
   int edges = 0;            // relations used as edges
   RelationError own;        // relation error of the result

@@ -42,6 +42,10 @@ struct PoseGraphConfig {
   std::string validate() const;  // empty when valid
 };
 
+// Huber 1.0 on loop edges (hdl_graph_slam's) and the continuation {100, 30, 10, 3}: the graphs
+// coral_loop_eval optimises per gate and the relation graph of a CARMEN log (log_nodes.hpp).
+PoseGraphConfig robustContinuationConfig(int dimension);
+
 struct PoseGraphResult {
   bool converged = false;  // Ceres reached a convergence tolerance (not the iteration cap)
   int iterations = 0;      // LM steps taken (successful + unsuccessful), every stage
