@@ -45,7 +45,11 @@ class LoopClosureBackEnd {
       return reject("service " + client_.getService() + " unavailable");
     const coral_introspection::AlignmentQuality& r = srv.response.result;
     if (r.valid && r.aligned) {
-      edges_.push_back({cloud_a.header.frame_id, cloud_b.header.frame_id, T_a_b});
+      // "refined": accepted at the pose the verdict refined within the tolerance
+      // (loop_closure/max_refinement): that pose, T_a_b * correction, is the better edge.
+      const Eigen::Isometry3d edge =
+          r.correction_hint == "refined" ? T_a_b * fromTransformMsg(r.correction) : T_a_b;
+      edges_.push_back({cloud_a.header.frame_id, cloud_b.header.frame_id, edge});
       return true;
     }
     // Judged and misaligned: rejected_by names the term that said so. No verdict (refused
@@ -74,6 +78,15 @@ class LoopClosureBackEnd {
     m.rotation.z = q.z();
     m.rotation.w = q.w();
     return m;
+  }
+
+  static Eigen::Isometry3d fromTransformMsg(const geometry_msgs::Transform& m) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::Quaterniond(m.rotation.w, m.rotation.x, m.rotation.y, m.rotation.z)
+                     .normalized()
+                     .toRotationMatrix();
+    T.translation() = Eigen::Vector3d(m.translation.x, m.translation.y, m.translation.z);
+    return T;
   }
 
   bool reject(const std::string& why) {

@@ -38,6 +38,7 @@ MUTATIONS=(
   "RIP noise floor: peak at z_min kept@src/radar/rip_features.cpp@if \(sr <= s_min\) continue;@if (sr < s_min) continue;@test_rip_features test_polar_scan test_oxford_radar"
   "free-space margin on the wrong side@src/coral/free_space.cpp@return r <= nearest - margin;@return r <= nearest + margin;@test_free_space"
   "constraint without its rotation column@src/coral/constraint.cpp@J << s\.n, k \* \(s\.p - c\)\.cross\(s\.n\);@J << s.n, 0 * (s.p - c).cross(s.n);@test_constraint"
+  "refinement walks past its bound@src/coral/refinement.cpp@if \(toleranceSize\(delta, tol\) > bound\) continue;@if (false) continue;@test_refinement"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).

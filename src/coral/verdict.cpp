@@ -44,6 +44,8 @@ std::string GateConfig::validate() const {
                min_constraint)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
+      .require(max_refinement >= 0.0 && max_refinement <= 1.0, "max_refinement",
+               "in [0, 1] tolerances, 0 = off", max_refinement)
       .str();
 }
 
@@ -164,8 +166,10 @@ AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isome
   return judgeAlignment(*prepareVerdictPair(a, b, coral, cfg), T_a_b, cfg);
 }
 
-AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
-                                const VerdictConfig& cfg) {
+namespace {
+// The verdict at one pose, no refinement.
+AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                             const VerdictConfig& cfg) {
   AlignmentVerdict v;
   // One prepared pair for every pose: the relative check's Q values and the Q at the pose
   // come from the same filtered points and queries (coral_pair.hpp).
@@ -189,6 +193,37 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
         registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral, cfg.tolerance);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
+}
+}  // namespace
+
+bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg) {
+  return cfg.method == VerdictMethod::kGated && cfg.gate.max_refinement > 0.0 && v.valid &&
+         !v.aligned;
+}
+
+AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                const VerdictConfig& cfg) {
+  AlignmentVerdict v = judgeAtPose(pair, T_a_b, cfg);
+  if (!refinementApplies(v, cfg)) return v;
+  v.refinement =
+      refinePose(pair, T_a_b, pair.config().dimension, cfg.tolerance, cfg.gate.max_refinement);
+  if (!(v.refinement.size > 0.0)) return v;  // Q has no lower pose within reach
+  AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg);
+  w.refinement = v.refinement;
+  if (refinedPoseAccepted(w)) {
+    w.refined = true;
+    return w;
+  }
+  std::string why = w.valid ? w.rejected_by : w.reason;
+  if (why.empty())  // passed the gate, not the classifier's own threshold
+    why = "classifier p " + number(w.classifier.probability) +
+          " below its threshold (a pose at Q's minimum must look aligned)";
+  v.rejected_by += "; at the pose refined by " + number(v.refinement.size) + " tolerances: " + why;
+  return v;
+}
+
+bool refinedPoseAccepted(const AlignmentVerdict& at_refined) {
+  return at_refined.valid && at_refined.aligned && at_refined.classifier.aligned;
 }
 
 std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments,

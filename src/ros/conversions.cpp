@@ -270,6 +270,11 @@ AlignmentQuality toMessage(const coral::AlignmentVerdict& v, const coral::Verdic
   m.correction_hint = v.relative.hint.name;
   m.correction = toTransformMsg(v.relative.hint.name.empty() ? Eigen::Isometry3d::Identity()
                                                              : v.relative.hint.delta);
+  if (v.refined) {  // judged at the refined pose: that pose is the edge to add
+    m.correction_hint = "refined";
+    m.correction = toTransformMsg(v.refinement.delta);
+    m.refinement = v.refinement.size;
+  }
   for (coral::Axis a : v.relative.flat_axes) m.flat_axes.push_back(coral::axisName(a));
   return m;
 }

@@ -178,6 +178,7 @@ std::string describe(const NodeConfig& c) {
     << "\nloop_closure.relative_margin = " << c.online.verdict.loop_closure.relative_margin
     << "\nloop_closure.max_free_space = " << c.online.verdict.loop_closure.max_free_space
     << "\nloop_closure.min_constraint = " << c.online.verdict.loop_closure.min_constraint
+    << "\nloop_closure.max_refinement = " << c.online.verdict.loop_closure.max_refinement
     << "\nfree_space.bin_deg = " << c.online.verdict.free_space.bin_deg
     << "\nfree_space.margin = " << c.online.verdict.free_space.margin
     << "\nfree_space.min_tested = " << c.online.verdict.free_space.min_tested

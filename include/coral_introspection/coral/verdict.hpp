@@ -13,6 +13,7 @@
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/coral_pair.hpp"
 #include "coral_introspection/coral/free_space.hpp"
+#include "coral_introspection/coral/refinement.hpp"
 #include "coral_introspection/coral/relative_check.hpp"
 #include "coral_introspection/coral/tolerance.hpp"
 
@@ -54,6 +55,13 @@ struct GateConfig {
   // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
   double relative_margin = -1.0;
+  // [tolerances] loop closures only: a candidate rejected at its pose is judged again at the
+  // pose refined on Q within this many tolerances of it (refinement.hpp) and accepted when
+  // that pose passes every term; the back end then adds the refined pose as the edge
+  // (AlignmentVerdict::refinement). A registration that stopped a fraction of the tolerance
+  // from a true revisit is right, but not yet at Q's minimum. In [0, 1]: the verdict's
+  // meaning is "within the tolerance". 0 = off.
+  double max_refinement = 0.0;
   std::string validate() const;  // empty when valid
 };
 
@@ -94,6 +102,11 @@ struct AlignmentVerdict {
   // valid and misaligned: which term said so, in words ("relative check: ...", "gate:
   // classifier p 2e-05 < 0.01", ...); empty when aligned.
   std::string rejected_by;
+  // Gate max_refinement > 0 and rejected at the given pose: the walk on Q (refinement.hpp).
+  // When it moved (size > 0) and the refined pose passed, the verdict above is the one judged
+  // at T_a_b * refinement.delta (coral, terms and all): use that pose as the edge.
+  PoseRefinement refinement;
+  bool refined = false;  // the verdict above was judged at the refined pose
 };
 
 // A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *
@@ -129,6 +142,19 @@ std::unique_ptr<CoralPair> prepareVerdictPair(const Scan& a, const Scan& b,
                                               const CoralConfig& coral, const VerdictConfig& cfg);
 AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                 const VerdictConfig& cfg);
+
+// Whether judgeAlignment refines the pose after verdict v at the given pose: method kGated
+// with gate.max_refinement > 0, and v judged misaligned. (Evaluation, which judges with
+// method kBoth and combines the gates itself, asks the same question.)
+bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg);
+
+// Whether the verdict judged at the refined pose accepts the candidate: it passes the gate,
+// and the classifier says aligned there (p >= its threshold, Eq. 10), not only "not far
+// off" (the gate's min_probability). The walk ends at a minimum of Q; a false candidate
+// that ICP left near a local minimum also gets there and passes the relative check, but it
+// does not look like an aligned pair: on the ACES loops the refined true candidates reach p
+// 0.6-0.999, the false ones that pass the gate 0.01-0.4 (doc/loop_closure.md).
+bool refinedPoseAccepted(const AlignmentVerdict& at_refined);
 
 // The classifier as the nodelet's private parameters ~classifier/method, beta0, beta1, beta2,
 // threshold (`<rosparam file=.../>` inside the nodelet, coral.launch classifier:=, coral_check

@@ -5,19 +5,22 @@ namespace eval {
 
 const std::vector<std::string>& loopGateNames() {
   static const std::vector<std::string> names = {
-      "verdict",      "no_free_space", "no_constraint", "relative", "classifier",
-      "fitness<=0.3", "fitness<=0.5",  "fitness<=2.5",  "oracle",   "all"};
+      "verdict",      "no_refinement", "no_free_space", "no_constraint", "relative", "classifier",
+      "fitness<=0.3", "fitness<=0.5",  "fitness<=2.5",  "oracle",        "all"};
   return names;
 }
 
-bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
-                     const coral::AlignmentVerdict& v_both, const coral::VerdictConfig& cfg) {
-  if (gate == "oracle") return c.is_true;
-  if (gate == "all") return true;
-  if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
+namespace {
+bool isVerdictGate(const std::string& gate) {
+  return gate == "verdict" || gate == "no_free_space" || gate == "no_constraint";
+}
+
+// A CorAl gate's decision on one kBoth evaluation.
+bool decide(const std::string& gate, const coral::AlignmentVerdict& v_both,
+            const coral::VerdictConfig& cfg) {
   if (!v_both.valid) return false;  // no CorAl verdict (no overlap): every CorAl gate rejects
   coral::AlignmentVerdict v = v_both;
-  if (gate == "verdict" || gate == "no_free_space" || gate == "no_constraint") {
+  if (isVerdictGate(gate) || gate == "no_refinement") {
     coral::VerdictConfig loop = coral::loopClosureVerdict(cfg);
     if (gate == "no_free_space") loop.gate.max_free_space = 1.0;
     if (gate == "no_constraint") loop.gate.min_constraint = 0.0;
@@ -35,6 +38,23 @@ bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
     return false;
   }
   return v.valid && v.aligned;
+}
+}  // namespace
+
+bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
+                     const coral::AlignmentVerdict& v_both, const coral::VerdictConfig& cfg,
+                     const coral::AlignmentVerdict* v_refined, bool* refined) {
+  if (refined) *refined = false;
+  if (gate == "oracle") return c.is_true;
+  if (gate == "all") return true;
+  if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
+  if (decide(gate, v_both, cfg)) return true;
+  // As coral::judgeAlignment: the refined pose passes the gate and the classifier's threshold.
+  if (!isVerdictGate(gate) || !v_refined || !decide(gate, *v_refined, cfg) ||
+      !v_refined->classifier.aligned)
+    return false;
+  if (refined) *refined = true;
+  return true;
 }
 
 }  // namespace eval

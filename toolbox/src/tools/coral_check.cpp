@@ -208,6 +208,20 @@ int main(int argc, char** argv) {
   char cs[32] = "null";  // likewise the constraint term
   if (out.verdict.constraint.valid)
     std::snprintf(cs, sizeof cs, "%.6f", out.verdict.constraint.weakest);
+  // A loop closure judged at its refined pose (loop_closure/max_refinement): that pose, 3x4
+  // row-major as --transform_file reads it, is the edge to add; null otherwise.
+  std::string refined = "null";
+  if (out.verdict.refined) {
+    const Eigen::Isometry3d T = T_a_b * out.verdict.refinement.delta;
+    refined = "[";
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 4; ++k) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%s%.9g", i + k > 0 ? ", " : "", T.matrix()(i, k));
+        refined += buf;
+      }
+    refined += "]";
+  }
   std::printf(
       "{\"valid\": %s, \"aligned\": %s, \"probability\": %.6f, \"quality\": %.6f, "
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
@@ -215,13 +229,15 @@ int main(int argc, char** argv) {
       "\"num_queries\": %zu, \"num_non_finite\": %zu, \"num_out_of_range\": %zu, "
       "\"num_thinned\": %zu, \"num_merged\": %zu, \"num_degenerate\": %zu, \"reason\": \"%s\", "
       "\"method\": \"%s\", \"loop_closure\": %s, \"rejected_by\": \"%s\", "
-      "\"free_space_conflict\": %s, \"constraint\": %s}\n",
+      "\"free_space_conflict\": %s, \"constraint\": %s, \"refinement\": %.6f, "
+      "\"refined_transform\": %s}\n",
       r.valid ? "true" : "false", out.verdict.valid && out.verdict.aligned ? "true" : "false",
       out.verdict.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
       r.num_non_finite, r.num_out_of_range, r.num_thinned, r.num_merged, r.num_degenerate,
       jsonEscape(out.reason).c_str(), coral::verdictMethodName(cfg.online.verdict.method),
       loop_closure ? "true" : "false", jsonEscape(out.verdict.rejected_by).c_str(),
-      free_space.c_str(), cs);
+      free_space.c_str(), cs, out.verdict.refined ? out.verdict.refinement.size : 0.0,
+      refined.c_str());
   return 0;
 }

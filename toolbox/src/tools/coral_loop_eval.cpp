@@ -63,7 +63,35 @@ struct Judged {
   bool in_graph = false;       // an edge of the graph: between graph nodes, or attached to them
   int node_a = 0, node_b = 0;  // its graph nodes
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // node_b in node_a's frame
+  // The loop verdict rejected at the pose and the gate refines (loop_closure/max_refinement):
+  // the evaluation at the refined pose (method kBoth) and the edge through that pose.
+  bool has_refined = false;
+  coral::AlignmentVerdict v_refined;
+  Eigen::Isometry3d T_edge_refined = Eigen::Isometry3d::Identity();
 };
+
+// One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, when
+// the loop verdict rejects it there and the preset's loop gate refines, the evaluation at
+// the pose coral::refinePose reaches, as coral::judgeAlignment does for the loop verdict.
+Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const coral::Scan& b,
+                      const online::IntrospectorConfig& judge_cfg,
+                      const coral::VerdictConfig& verdict) {
+  Judged j;
+  j.c = c;
+  const online::PairJudgement pj = online::judgePair(a, b, c.T_a_b, judge_cfg, false);
+  j.v = pj.verdict;
+  const double max_refinement = verdict.loop_closure.max_refinement;
+  if (max_refinement <= 0.0 || !pj.prepared || !j.v.valid ||
+      eval::loopGateAccepts("verdict", c, j.v, verdict))
+    return j;
+  const coral::PoseRefinement r = coral::refinePose(
+      *pj.prepared, c.T_a_b, judge_cfg.coral.dimension, verdict.tolerance, max_refinement);
+  if (!(r.size > 0.0)) return j;
+  j.has_refined = true;
+  j.v_refined = coral::judgeAlignment(*pj.prepared, c.T_a_b * r.delta, judge_cfg.verdict);
+  j.v_refined.refinement = r;
+  return j;
+}
 
 // A benchmark relation's raw scans hang off the graph node at most this many log lines away
 // (the corrected scans are ~9 lines apart).
@@ -139,19 +167,27 @@ int main(int argc, char** argv) {
 
   // 2. One evaluation each.
   std::vector<Judged> judged;
-  for (const eval::LoopCandidate& c : set.lookalikes)
-    judged.push_back(
-        {c, online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, judge_cfg, false).verdict,
-         true, c.a, c.b, c.T_a_b});
+  for (const eval::LoopCandidate& c : set.lookalikes) {
+    Judged j = judgeCandidate(c, scans[c.a].scan, scans[c.b].scan, judge_cfg, verdict);
+    j.in_graph = true;
+    j.node_a = c.a;
+    j.node_b = c.b;
+    j.T_edge = c.T_a_b;
+    j.T_edge_refined = c.T_a_b * j.v_refined.refinement.delta;
+    judged.push_back(j);
+  }
   const eval::LogNodes nodes(set.log, set.raw);
   for (const eval::LoopCandidate& c : set.revisits) {
     const std::vector<eval::TrainingScan>& rs = set.rel_scans;
-    Judged j{c, online::judgePair(rs[c.a].scan, rs[c.b].scan, c.T_a_b, judge_cfg, false).verdict};
+    Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict);
     // An edge between the nodes its scans hang off: T_node_a_a * T_a_b * T_node_b_b^-1.
     Eigen::Isometry3d A, B;
     j.in_graph = nodes.attach(rs[c.a].stamp, kAttachLines, &j.node_a, &A) &&
                  nodes.attach(rs[c.b].stamp, kAttachLines, &j.node_b, &B) && j.node_a != j.node_b;
-    if (j.in_graph) j.T_edge = A * c.T_a_b * B.inverse();
+    if (j.in_graph) {
+      j.T_edge = A * c.T_a_b * B.inverse();
+      j.T_edge_refined = A * c.T_a_b * j.v_refined.refinement.delta * B.inverse();
+    }
     judged.push_back(j);
   }
   std::vector<const Judged*> table;  // the rows of the gate table
@@ -163,7 +199,8 @@ int main(int argc, char** argv) {
     if (!out) return fail("cannot write " + out_path);
     out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
            "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
-           "constraint\n";
+           "constraint,refinement,refined_accepted,refined_classifier_p,refined_relative_score,"
+           "refined_q,refined_overlap,refined_constraint,refined_free_space\n";
     for (const Judged* j : table) {
       const eval::LoopCandidate& c = j->c;
       const coral::AlignmentVerdict& v = j->v;
@@ -173,7 +210,13 @@ int main(int argc, char** argv) {
           << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
           << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
           << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ','
-          << v.constraint.weakest << "\n";
+          << v.constraint.weakest << ',' << (j->has_refined ? j->v_refined.refinement.size : 0.0)
+          << ','
+          << (j->has_refined && eval::loopGateAccepts("verdict", c, v, verdict, &j->v_refined))
+          << ',';
+      const coral::AlignmentVerdict& w = j->v_refined;  // zeros when not refined
+      out << w.classifier.probability << ',' << w.relative.score << ',' << w.coral.quality << ','
+          << w.coral.overlap << ',' << w.constraint.weakest << ',' << w.free_space.conflict << "\n";
     }
   }
 
@@ -204,10 +247,14 @@ int main(int argc, char** argv) {
     int ta = 0, fa = 0;
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
     for (const Judged* j : table) {
-      if (!eval::loopGateAccepts(gate, j->c, j->v, verdict)) continue;
+      bool refined = false;
+      if (!eval::loopGateAccepts(gate, j->c, j->v, verdict,
+                                 j->has_refined ? &j->v_refined : nullptr, &refined))
+        continue;
       (j->c.is_true ? ta : fa)++;
-      if (j->in_graph)  // the rows' candidates between scans of the graph
-        edges.push_back({j->node_a, j->node_b, j->T_edge, graph.loop_t, graph.loop_r, true});
+      if (j->in_graph)  // the rows' candidates between scans of the graph; refined: that pose
+        edges.push_back({j->node_a, j->node_b, refined ? j->T_edge_refined : j->T_edge,
+                         graph.loop_t, graph.loop_r, true});
     }
     coral::Isometries poses = odom;
     eval::PoseGraphResult res;
