@@ -14,8 +14,8 @@ residuals of the moving part show.
    (scaled by n / (n - 3)) regressed on (e_el^T v)^2 and (e_az^T v)^2:
      E[res^2] = sigma_doppler^2 + sigma_el^2 (e_el^T v)^2 + sigma_az^2 (e_az^T v)^2,
    the Doppler variance of Eq. 10-12 (cos(el) folded into e_az). The per-frame fit absorbs
-   any error common to a frame's points (a common elevation error is collinear with the
-   vertical velocity), so the sigmas are of the part independent from point to point.
+   any error common to a frame's points (a common elevation error is nearly collinear with
+   the vertical velocity), so the sigmas are of the part independent from point to point.
 """
 import argparse
 
