@@ -40,7 +40,7 @@ session_tmp="$(mktemp -d)"
 session_roscore "${port}"
 session_bg roslaunch -p "${port}" coral_introspection rio.launch config:="${config}" \
   radar:=/ti_mmwave/radar_scan_pcl imu:=/sensor_platform/imu \
-  trigger:=/sensor_platform/radar_right/trigger \
+  trigger:=/sensor_platform/radar_right/trigger baro:=/sensor_platform/baro \
   heap_release_interval:="${heap_release_interval}" output:=log
 # The monitor subscribes before the bag starts, so that the first loop is counted whole.
 "$(dirname "${BASH_SOURCE[0]}")/soak_rio_monitor.py" --pid-of /rio_manager \
