@@ -45,15 +45,13 @@ class LoopClosureBackEnd {
       return reject("service " + client_.getService() + " unavailable");
     const coral_introspection::AlignmentQuality& r = srv.response.result;
     if (r.valid && r.aligned) {
-      // "refined": accepted at the pose the verdict refined within the tolerance
-      // (loop_closure/max_refinement): that pose, T_a_b * correction, is the better edge.
-      const Eigen::Isometry3d edge =
-          r.correction_hint == "refined" ? T_a_b * fromTransformMsg(r.correction) : T_a_b;
-      edges_.push_back({cloud_a.header.frame_id, cloud_b.header.frame_id, edge});
+      edges_.push_back({cloud_a.header.frame_id, cloud_b.header.frame_id, T_a_b});
       return true;
     }
-    // Judged and misaligned: rejected_by names the term that said so. No verdict (refused
-    // request, too little overlap, ...): reason / error say why.
+    // Judged and misaligned: rejected_by names the term that said so. With correction_hint
+    // "refined" (loop_closure/max_refinement) the pose transform_a_b * correction passes:
+    // register again from there with your matcher and ask again, rather than adding it as is. No
+    // verdict (refused request, too little overlap, ...): reason / error say why.
     if (r.valid) return reject(r.rejected_by);
     return reject(r.reason.empty() ? srv.response.error : r.reason);
   }
@@ -78,15 +76,6 @@ class LoopClosureBackEnd {
     m.rotation.z = q.z();
     m.rotation.w = q.w();
     return m;
-  }
-
-  static Eigen::Isometry3d fromTransformMsg(const geometry_msgs::Transform& m) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::Quaterniond(m.rotation.w, m.rotation.x, m.rotation.y, m.rotation.z)
-                     .normalized()
-                     .toRotationMatrix();
-    T.translation() = Eigen::Vector3d(m.translation.x, m.translation.y, m.translation.z);
-    return T;
   }
 
   bool reject(const std::string& why) {

@@ -48,12 +48,12 @@ class LoopClosureBackEnd:
             return self._reject("service %s unavailable: %s" % (self.service, e))
         r = res.result
         if r.valid and r.aligned:
-            # "refined": accepted at the pose the verdict refined within the tolerance
-            # (loop_closure/max_refinement): that pose, T_a_b * correction, is the better edge.
-            edge = T_a_b.dot(from_transform_msg(r.correction)) if r.correction_hint == "refined" else T_a_b
-            self.edges.append((cloud_a.header.frame_id, cloud_b.header.frame_id, edge))
+            self.edges.append((cloud_a.header.frame_id, cloud_b.header.frame_id, T_a_b))
             return True
-        if r.valid:  # judged and misaligned: rejected_by names the term that said so
+        # Judged and misaligned: rejected_by names the term that said so. With correction_hint
+        # "refined" (loop_closure/max_refinement) the pose transform_a_b * correction passes:
+        # register again from there with your matcher and ask again, rather than adding it as is.
+        if r.valid:
             return self._reject(r.rejected_by)
         # No verdict (refused request, too little overlap, ...): reason / error say why.
         return self._reject(r.reason or res.error)
@@ -75,19 +75,6 @@ def to_transform_msg(T):
     q = K[np.argmax(np.diag(K))]
     q /= np.linalg.norm(q)  # (x, y, z, w)
     return Transform(translation=Vector3(*T[:3, 3]), rotation=Quaternion(*q))
-
-
-def from_transform_msg(m):
-    """geometry_msgs/Transform -> 4x4 homogeneous matrix."""
-    x, y, z, w = m.rotation.x, m.rotation.y, m.rotation.z, m.rotation.w
-    n = np.sqrt(x * x + y * y + z * z + w * w)
-    x, y, z, w = x / n, y / n, z / n, w / n
-    T = np.eye(4)
-    T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                 [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
-    T[:3, 3] = [m.translation.x, m.translation.y, m.translation.z]
-    return T
 
 
 def read_pcd_xyz(path):

@@ -208,17 +208,18 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   v.refinement =
       refinePose(pair, T_a_b, pair.config().dimension, cfg.tolerance, cfg.gate.max_refinement);
   if (!(v.refinement.size > 0.0)) return v;  // Q has no lower pose within reach
-  AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg);
-  w.refinement = v.refinement;
-  if (refinedPoseAccepted(w)) {
-    w.refined = true;
-    return w;
-  }
+  // The verdict stays the given pose's: a pose off by the tolerance or more is never called
+  // aligned because a better one lies nearby. The refined pose is offered with its own
+  // verdict (doc/loop_closure.md: accepting it in place of the given pose also accepted
+  // relations moved by 1-2 tolerances onto other minima of Q that look aligned).
+  const AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg);
+  v.refined = refinedPoseAccepted(w);
   std::string why = w.valid ? w.rejected_by : w.reason;
   if (why.empty())  // passed the gate, not the classifier's own threshold
     why = "classifier p " + number(w.classifier.probability) +
           " below its threshold (a pose at Q's minimum must look aligned)";
-  v.rejected_by += "; at the pose refined by " + number(v.refinement.size) + " tolerances: " + why;
+  v.rejected_by += "; at the pose refined by " + number(v.refinement.size) +
+                   " tolerances: " + (v.refined ? "passes (transform_a_b * correction)" : why);
   return v;
 }
 

@@ -1,8 +1,8 @@
 // The loop gate's refinement (coral/refinement.hpp, GateConfig::max_refinement) on a 2D room
 // whose true relative pose is known: from a pose a fraction of the tolerance off, the walk on
-// Q ends near the truth; it never goes further than the bound; the loop verdict that rejects
-// such a pose at the pose accepts it at the refined pose and says so; a pose several
-// tolerances off stays rejected (the bound keeps the refined pose far from the truth).
+// Q ends near the truth; it never goes further than the bound; the loop verdict rejects such
+// a pose (it is the given pose's verdict) and offers the refined pose, which passes; from
+// several tolerances off nothing is offered when the refined pose fails the gate.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,7 +39,6 @@ Points room(double phase) {
   wall(5, 2.5, 5, 1.5, st, phase, &pts);
   return pts;
 }
-
 
 struct Pair {
   Scan a, b;
@@ -124,7 +123,7 @@ TEST(Refinement, NeverWalksPastTheBoundAndZeroIsOff) {
   EXPECT_LT(refinePose(pair, p.truth, 2, tol, 1.0).size, 0.3);
 }
 
-TEST(Refinement, LoopVerdictAcceptsAtTheRefinedPoseAndSaysSo) {
+TEST(Refinement, LoopVerdictOffersTheRefinedPoseAndStaysTheGivenPoses) {
   const Pair p = roomPair();
   const Eigen::Isometry3d start = p.truth * se2(0.2, 0.0, 0.0);  // within the tolerance
   const AlignmentVerdict plain = judgeAlignment(p.a, p.b, start, planar(), loopGate(0.0));
@@ -134,12 +133,14 @@ TEST(Refinement, LoopVerdictAcceptsAtTheRefinedPoseAndSaysSo) {
   EXPECT_FALSE(plain.refined);
   const AlignmentVerdict v = judgeAlignment(p.a, p.b, start, planar(), loopGate(1.0));
   ASSERT_TRUE(v.valid) << v.reason;
-  EXPECT_TRUE(v.aligned) << v.rejected_by;
-  EXPECT_TRUE(v.refined);
+  EXPECT_FALSE(v.aligned);  // the given pose's verdict, refinement or not
+  EXPECT_EQ(v.coral.quality, plain.coral.quality);
+  EXPECT_TRUE(v.refined);  // the refined pose passes: offered
   EXPECT_GT(v.refinement.size, 0.0);
+  EXPECT_LT(v.refinement.q_end, v.refinement.q_start);
   EXPECT_LT(offTruth(start * v.refinement.delta, p, loopGate(1.0).tolerance), 0.3);
-  // The verdict's CorAl is the refined pose's: lower Q than at the given pose.
-  EXPECT_LT(v.coral.quality, plain.coral.quality);
+  EXPECT_NE(v.rejected_by.find("passes (transform_a_b * correction)"), std::string::npos)
+      << v.rejected_by;
   // The stream's gated verdict never refines (max_refinement is the loop gate's).
   VerdictConfig stream = loopGate(1.0);
   stream.method = VerdictMethod::kRelative;

@@ -56,11 +56,11 @@ struct GateConfig {
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
   double relative_margin = -1.0;
   // [tolerances] loop closures only: a candidate rejected at its pose is judged again at the
-  // pose refined on Q within this many tolerances of it (refinement.hpp) and accepted when
-  // that pose passes every term; the back end then adds the refined pose as the edge
-  // (AlignmentVerdict::refinement). A registration that stopped a fraction of the tolerance
-  // from a true revisit is right, but not yet at Q's minimum. In [0, 1]: the verdict's
-  // meaning is "within the tolerance". 0 = off.
+  // pose refined on Q within this many tolerances of it (refinement.hpp); when that pose
+  // passes, it is offered (AlignmentVerdict::refined, refinement): the verdict stays
+  // "misaligned" for the given pose, the back end may add the refined pose instead. A
+  // registration that stopped a fraction of the tolerance from a true revisit is rejected at
+  // its pose (Q is lower one tolerance on) but right once refined. In [0, 1]. 0 = off.
   double max_refinement = 0.0;
   std::string validate() const;  // empty when valid
 };
@@ -103,10 +103,11 @@ struct AlignmentVerdict {
   // classifier p 2e-05 < 0.01", ...); empty when aligned.
   std::string rejected_by;
   // Gate max_refinement > 0 and rejected at the given pose: the walk on Q (refinement.hpp).
-  // When it moved (size > 0) and the refined pose passed, the verdict above is the one judged
-  // at T_a_b * refinement.delta (coral, terms and all): use that pose as the edge.
+  // The verdict above is the given pose's either way; refined: the pose
+  // T_a_b * refinement.delta passes (refinedPoseAccepted): an edge the back end may add
+  // instead of the given one.
   PoseRefinement refinement;
-  bool refined = false;  // the verdict above was judged at the refined pose
+  bool refined = false;
 };
 
 // A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *
@@ -148,7 +149,7 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
 // method kBoth and combines the gates itself, asks the same question.)
 bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg);
 
-// Whether the verdict judged at the refined pose accepts the candidate: it passes the gate,
+// Whether the refined pose is offered (AlignmentVerdict::refined): it passes the gate,
 // and the classifier says aligned there (p >= its threshold, Eq. 10), not only "not far
 // off" (the gate's min_probability). The walk ends at a minimum of Q; a false candidate
 // that ICP left near a local minimum also gets there and passes the relative check, but it

@@ -5,14 +5,15 @@ namespace eval {
 
 const std::vector<std::string>& loopGateNames() {
   static const std::vector<std::string> names = {
-      "verdict",      "no_refinement", "no_free_space", "no_constraint", "relative", "classifier",
-      "fitness<=0.3", "fitness<=0.5",  "fitness<=2.5",  "oracle",        "all"};
+      "verdict",      "refined",      "no_free_space", "no_constraint", "relative", "classifier",
+      "fitness<=0.3", "fitness<=0.5", "fitness<=2.5",  "oracle",        "all"};
   return names;
 }
 
 namespace {
 bool isVerdictGate(const std::string& gate) {
-  return gate == "verdict" || gate == "no_free_space" || gate == "no_constraint";
+  return gate == "verdict" || gate == "refined" || gate == "no_free_space" ||
+         gate == "no_constraint";
 }
 
 // A CorAl gate's decision on one kBoth evaluation.
@@ -20,7 +21,7 @@ bool decide(const std::string& gate, const coral::AlignmentVerdict& v_both,
             const coral::VerdictConfig& cfg) {
   if (!v_both.valid) return false;  // no CorAl verdict (no overlap): every CorAl gate rejects
   coral::AlignmentVerdict v = v_both;
-  if (isVerdictGate(gate) || gate == "no_refinement") {
+  if (isVerdictGate(gate)) {
     coral::VerdictConfig loop = coral::loopClosureVerdict(cfg);
     if (gate == "no_free_space") loop.gate.max_free_space = 1.0;
     if (gate == "no_constraint") loop.gate.min_constraint = 0.0;
@@ -49,8 +50,9 @@ bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
   if (gate == "all") return true;
   if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
   if (decide(gate, v_both, cfg)) return true;
-  // As coral::judgeAlignment: the refined pose passes the gate and the classifier's threshold.
-  if (!isVerdictGate(gate) || !v_refined || !decide(gate, *v_refined, cfg) ||
+  // As coral::judgeAlignment offers it: the refined pose passes the gate and the classifier's
+  // threshold.
+  if (gate != "refined" || !v_refined || !decide(gate, *v_refined, cfg) ||
       !v_refined->classifier.aligned)
     return false;
   if (refined) *refined = true;

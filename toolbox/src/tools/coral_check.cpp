@@ -208,8 +208,8 @@ int main(int argc, char** argv) {
   char cs[32] = "null";  // likewise the constraint term
   if (out.verdict.constraint.valid)
     std::snprintf(cs, sizeof cs, "%.6f", out.verdict.constraint.weakest);
-  // A loop closure judged at its refined pose (loop_closure/max_refinement): that pose, 3x4
-  // row-major as --transform_file reads it, is the edge to add; null otherwise.
+  // A loop closure rejected at its pose whose refined pose passes (loop_closure/
+  // max_refinement): that pose, 3x4 row-major as --transform_file reads it; null otherwise.
   std::string refined = "null";
   if (out.verdict.refined) {
     const Eigen::Isometry3d T = T_a_b * out.verdict.refinement.delta;

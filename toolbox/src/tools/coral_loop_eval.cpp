@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
           << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ','
           << v.constraint.weakest << ',' << (j->has_refined ? j->v_refined.refinement.size : 0.0)
           << ','
-          << (j->has_refined && eval::loopGateAccepts("verdict", c, v, verdict, &j->v_refined))
+          << (j->has_refined && eval::loopGateAccepts("refined", c, v, verdict, &j->v_refined))
           << ',';
       const coral::AlignmentVerdict& w = j->v_refined;  // zeros when not refined
       out << w.classifier.probability << ',' << w.relative.score << ',' << w.coral.quality << ','

@@ -2,10 +2,9 @@
 // edge" (doc/loop_closure.md), decided from one CorAl evaluation of the candidate
 // (judged with method `both`, so the classifier and the relative check are both filled, and
 // with every gate term measured, VerdictConfig::measure_gate_terms):
-//   verdict      coral::loopClosureVerdict: relative check + the loop gate (this package),
-//                a candidate rejected at its pose judged again at its refined pose when the
-//                gate's max_refinement is set (coral/refinement.hpp)
-//   no_refinement  the verdict judged at the candidate's pose only (what refining adds)
+//   verdict      coral::loopClosureVerdict: relative check + the loop gate (this package)
+//   refined      a back end that also adds the refined pose the verdict offers for a
+//                candidate it rejects (AlignmentVerdict::refined, loop_closure/max_refinement)
 //   no_free_space  the same without the gate's free-space term (what that term adds)
 //   no_constraint  the same without the gate's constraint term (what that term adds)
 //   relative     the relative check alone (the previous default)
@@ -30,9 +29,9 @@ const std::vector<std::string>& loopGateNames();
 // Whether `gate` (one of loopGateNames()) accepts candidate c whose CorAl evaluation is
 // v_both (method kBoth), with the preset's verdict configuration cfg. v_refined: the same
 // evaluation at the candidate's refined pose (coral::refinePose within the loop gate's
-// max_refinement) when the verdict rejects at the pose; the verdict gates that reject at
-// the pose decide again there, as coral::judgeAlignment does, and set *refined when they
-// accept there (the edge is then the refined pose).
+// max_refinement) when the verdict rejects at the pose; gate `refined` accepts the candidate
+// there when the verdict would offer it (coral::refinedPoseAccepted) and sets *refined (the
+// edge is then the refined pose).
 bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
                      const coral::AlignmentVerdict& v_both, const coral::VerdictConfig& cfg,
                      const coral::AlignmentVerdict* v_refined = nullptr, bool* refined = nullptr);
