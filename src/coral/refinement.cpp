@@ -16,7 +16,6 @@ PoseRefinement refinePose(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                           const ToleranceConfig& tol, double max_size) {
   PoseRefinement r;
   const CoralResult start = pair.evaluateProbe(T_a_b);
-  r.evaluations = 1;
   if (!start.valid) return r;
   r.valid = true;
   r.q_start = r.q_end = start.quality;
@@ -35,7 +34,6 @@ PoseRefinement refinePose(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
         const Eigen::Isometry3d delta = r.delta * offsets[i].delta;
         if (toleranceSize(delta, tol) > bound) continue;  // never past max_size
         const CoralResult c = pair.evaluateProbe(T_a_b * delta);
-        ++r.evaluations;
         if (c.valid && c.quality < best_q) {
           best_q = c.quality;
           best = static_cast<int>(i);

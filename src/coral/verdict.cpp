@@ -194,12 +194,14 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }
-}  // namespace
 
+// Whether judgeAlignment refines after verdict v at the given pose: method kGated with
+// gate.max_refinement > 0, and v judged misaligned.
 bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg) {
   return cfg.method == VerdictMethod::kGated && cfg.gate.max_refinement > 0.0 && v.valid &&
          !v.aligned;
 }
+}  // namespace
 
 AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                 const VerdictConfig& cfg) {

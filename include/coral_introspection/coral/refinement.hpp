@@ -4,9 +4,9 @@
 // truth and the classifier's p is already low there (doc/loop_closure.md): the candidate is
 // right, its pose not yet at Q's minimum. Walking Q downhill by steps of a fraction of the
 // tolerance, never further than max_size tolerances from the given pose, reaches that
-// minimum; the verdict judged there says whether a pose within max_size tolerances of the
-// given one is right, and the back end gets the refined pose as the edge. The walk only uses
-// Q (Eq. 5) over the pair's probe queries, as the relative check does: no new term.
+// minimum; the verdict judged there says whether the refined pose is offered to the back end
+// (the verdict itself stays the given pose's, verdict.hpp). The walk only uses Q (Eq. 5)
+// over the pair's probe queries, as the relative check does: no new term.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -28,7 +28,6 @@ struct PoseRefinement {
   double size = 0.0;     // toleranceSize(delta): 0 = no lower Q within reach
   double q_start = 0.0;  // Q (probe queries) at the given pose [nats]
   double q_end = 0.0;    // at the refined pose
-  int evaluations = 0;   // probe evaluations spent
   bool valid = false;    // Q at the given pose was valid
 };
 

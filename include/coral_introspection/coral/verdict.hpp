@@ -144,12 +144,9 @@ std::unique_ptr<CoralPair> prepareVerdictPair(const Scan& a, const Scan& b,
 AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                 const VerdictConfig& cfg);
 
-// Whether judgeAlignment refines the pose after verdict v at the given pose: method kGated
-// with gate.max_refinement > 0, and v judged misaligned. (Evaluation, which judges with
-// method kBoth and combines the gates itself, asks the same question.)
-bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg);
-
-// Whether the refined pose is offered (AlignmentVerdict::refined): it passes the gate,
+// Whether the refined pose is offered (AlignmentVerdict::refined), from the verdict judged
+// there (judgeAlignment with method kGated; evaluation recombines its kBoth one): it passes
+// the gate,
 // and the classifier says aligned there (p >= its threshold, Eq. 10), not only "not far
 // off" (the gate's min_probability). The walk ends at a minimum of Q; a false candidate
 // that ICP left near a local minimum also gets there and passes the relative check, but it

@@ -16,11 +16,11 @@ bool isVerdictGate(const std::string& gate) {
          gate == "no_constraint";
 }
 
-// A CorAl gate's decision on one kBoth evaluation.
-bool decide(const std::string& gate, const coral::AlignmentVerdict& v_both,
-            const coral::VerdictConfig& cfg) {
-  if (!v_both.valid) return false;  // no CorAl verdict (no overlap): every CorAl gate rejects
+// One kBoth evaluation combined as a CorAl gate decides (valid and aligned = accepted).
+coral::AlignmentVerdict decide(const std::string& gate, const coral::AlignmentVerdict& v_both,
+                               const coral::VerdictConfig& cfg) {
   coral::AlignmentVerdict v = v_both;
+  if (!v_both.valid) return v;  // no CorAl verdict (no overlap): every CorAl gate rejects
   if (isVerdictGate(gate)) {
     coral::VerdictConfig loop = coral::loopClosureVerdict(cfg);
     if (gate == "no_free_space") loop.gate.max_free_space = 1.0;
@@ -36,10 +36,12 @@ bool decide(const std::string& gate, const coral::AlignmentVerdict& v_both,
     coral::combineVerdict(coral::VerdictMethod::kClassifier, v.classifier, v.relative, cfg.relative,
                           &v);
   } else {
-    return false;
+    v.valid = false;  // not a CorAl gate
   }
-  return v.valid && v.aligned;
+  return v;
 }
+
+bool accepts(const coral::AlignmentVerdict& v) { return v.valid && v.aligned; }
 }  // namespace
 
 bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
@@ -49,11 +51,9 @@ bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
   if (gate == "oracle") return c.is_true;
   if (gate == "all") return true;
   if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
-  if (decide(gate, v_both, cfg)) return true;
-  // As coral::judgeAlignment offers it: the refined pose passes the gate and the classifier's
-  // threshold.
-  if (gate != "refined" || !v_refined || !decide(gate, *v_refined, cfg) ||
-      !v_refined->classifier.aligned)
+  if (accepts(decide(gate, v_both, cfg))) return true;
+  // As coral::judgeAlignment offers it (coral::refinedPoseAccepted on the loop gate's verdict).
+  if (gate != "refined" || !v_refined || !coral::refinedPoseAccepted(decide(gate, *v_refined, cfg)))
     return false;
   if (refined) *refined = true;
   return true;
