@@ -1,11 +1,16 @@
 #include "coral_introspection/eval/loop_candidates.hpp"
 
+#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 #include <pcl/registration/ndt.h>
 #include <pcl/registration/transformation_estimation_2D.h>
+#include <pcl/registration/transformation_estimation_point_to_plane.h>
+#include <pcl/registration/warp_point_rigid_3d.h>
+
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -24,10 +29,11 @@ std::string LoopCandidateConfig::validate() const {
                lookalike_min_distance)
       .require(max_correspondence > 0.0, "max_correspondence", "> 0 m", max_correspondence)
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
-      .require(registration == "gicp" || (registration == "ndt" && dimension == 3),
-               "registration must be gicp or ndt, and ndt only in 3D (2D scans are registered by "
-               "planar ICP); got " +
-                   registration)
+      .require(dimension == 3 ? (registration == "gicp" || registration == "ndt")
+                              : (registration == "icp" || registration == "point_to_line"),
+               "registration must be gicp or ndt for 3D scans, icp or point_to_line for 2D "
+               "scans; got '" +
+                   registration + "' for dimension " + std::to_string(dimension))
       .require(ndt_resolution > 0.0, "ndt_resolution", "> 0 m", ndt_resolution)
       .require(false_multiple >= 1.0, "false_multiple", ">= 1", false_multiple)
       .nested("tolerance", tolerance.validate())
@@ -46,18 +52,60 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const coral::Points& pts, int dimensio
   return c;
 }
 
+// A planar scan with each point's line normal (the target's normals are what point-to-line
+// ICP measures along): the least direction of the 2D covariance of the point's
+// kNormalNeighbours nearest points, all within kNormalRadius; points without them are dropped
+// (a point-to-line residual needs a line).
+constexpr int kNormalNeighbours = 6;
+constexpr double kNormalRadius = 1.0;  // [m]
+
+pcl::PointCloud<pcl::PointNormal>::Ptr withLineNormals(
+    const pcl::PointCloud<pcl::PointXYZ>::Ptr& in) {
+  pcl::PointCloud<pcl::PointNormal>::Ptr out(new pcl::PointCloud<pcl::PointNormal>);
+  if (in->size() < static_cast<std::size_t>(kNormalNeighbours)) return out;
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(in);
+  std::vector<int> idx;
+  std::vector<float> d2;
+  for (const pcl::PointXYZ& p : *in) {
+    if (tree.nearestKSearch(p, kNormalNeighbours, idx, d2) < kNormalNeighbours ||
+        d2.back() > kNormalRadius * kNormalRadius)
+      continue;
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (int i : idx) mean += Eigen::Vector2d((*in)[i].x, (*in)[i].y);
+    mean /= idx.size();
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (int i : idx) {
+      const Eigen::Vector2d d = Eigen::Vector2d((*in)[i].x, (*in)[i].y) - mean;
+      cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+    const Eigen::Vector2d n = es.eigenvectors().col(0);  // least eigenvalue first
+    pcl::PointNormal q;
+    q.x = p.x;
+    q.y = p.y;
+    q.z = 0.f;
+    q.normal_x = static_cast<float>(n.x());
+    q.normal_y = static_cast<float>(n.y());
+    q.normal_z = 0.f;
+    out->push_back(q);
+  }
+  return out;
+}
+
 // Runs a PCL registration (GICP or ICP, both pcl::Registration) from T_init; fills converged
 // and fitness, returns the final transformation.
-Eigen::Matrix4f align(pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>* reg,
-                      const pcl::PointCloud<pcl::PointXYZ>::Ptr& target,
-                      const pcl::PointCloud<pcl::PointXYZ>::Ptr& source,
+template <class Point>
+Eigen::Matrix4f align(pcl::Registration<Point, Point>* reg,
+                      const typename pcl::PointCloud<Point>::Ptr& target,
+                      const typename pcl::PointCloud<Point>::Ptr& source,
                       const Eigen::Isometry3d& T_init, const LoopCandidateConfig& cfg,
                       LoopCandidate* c) {
   reg->setMaxCorrespondenceDistance(cfg.max_correspondence);
   reg->setMaximumIterations(cfg.max_iterations);
   reg->setInputTarget(target);
   reg->setInputSource(source);
-  pcl::PointCloud<pcl::PointXYZ> aligned;
+  pcl::PointCloud<Point> aligned;
   reg->align(aligned, T_init.matrix().cast<float>());
   c->converged = reg->hasConverged();
   c->fitness = reg->getFitnessScore(cfg.fitness_range);
@@ -87,6 +135,7 @@ LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceCo
   if (dimension == 3) {
     c.propose_by_odometry = true;
   } else {
+    c.registration = "icp";
     c.min_index_gap = 30;
     c.max_radius_candidates = 300;  // 2D registration is cheap: a graph with many loops
     c.max_lookalike_pairs = 60;
@@ -113,16 +162,26 @@ void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::I
     ndt.setResolution(static_cast<float>(cfg.ndt_resolution));
     ndt.setStepSize(0.1);
     ndt.setTransformationEpsilon(0.01);
-    result = align(&ndt, target, source, T_init, cfg, c);
+    result = align<pcl::PointXYZ>(&ndt, target, source, T_init, cfg, c);
   } else if (cfg.dimension == 3) {
     pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
-    result = align(&gicp, target, source, T_init, cfg, c);
+    result = align<pcl::PointXYZ>(&gicp, target, source, T_init, cfg, c);
+  } else if (cfg.registration == "point_to_line") {
+    // Point-to-line ICP in the plane (Censi's PL-ICP is what ROS's laser_scan_matcher runs):
+    // PCL's point-to-plane estimation with 2D normals, restricted to x, y, yaw by the warp
+    // (the normals have no z, so the other three would be unconstrained).
+    using PN = pcl::PointNormal;
+    pcl::IterativeClosestPointWithNormals<PN, PN> icp;
+    auto est = pcl::make_shared<pcl::registration::TransformationEstimationPointToPlane<PN, PN>>();
+    est->setWarpFunction(pcl::make_shared<pcl::registration::WarpPointRigid3D<PN, PN>>());
+    icp.setTransformationEstimation(est);
+    result = align<PN>(&icp, withLineNormals(target), withLineNormals(source), T_init, cfg, c);
   } else {
-    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;  // "icp": point-to-point
     icp.setTransformationEstimation(
         pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>::Ptr(
             new pcl::registration::TransformationEstimation2D<pcl::PointXYZ, pcl::PointXYZ>));
-    result = align(&icp, target, source, T_init, cfg, c);
+    result = align<pcl::PointXYZ>(&icp, target, source, T_init, cfg, c);
   }
   c->T_a_b.matrix() = result.cast<double>();
   // Re-orthonormalise the float result.

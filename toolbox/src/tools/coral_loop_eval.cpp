@@ -1,8 +1,8 @@
 // coral_loop_eval: loop closure end to end on a real sequence with reference poses, the
 // evaluation of doc/loop_closure.md and a template of the consumer:
 //   1. loop candidates (eval/loop_candidates.hpp): revisits and look-alike places, registered
-//      by PCL (GICP or NDT in 3D, planar ICP in 2D), labelled true or false against the
-//      reference;
+//      by PCL (GICP or NDT in 3D; point-to-point or point-to-line ICP in 2D), labelled true
+//      or false against the reference;
 //   2. each gate of eval/loop_gates.hpp decides every candidate (one CorAl evaluation each);
 //   3. per gate, a keyframe pose graph (odometry edges + the accepted loop edges) optimised
 //      with Ceres (eval/pose_graph.hpp, loop sigmas by continuation); ATE against the
@@ -10,7 +10,8 @@
 //      written as TUM and KITTI files with --out_dir.
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
-//       [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] [--out_dir DIR]
+//       [--rows all|even|odd] [--registration gicp|ndt (3D) | icp|point_to_line (2D)]
+//       [--out FILE.csv] [--out_dir DIR]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -43,8 +44,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
-    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt] [--out FILE.csv] "
-    "[--out_dir DIR]";
+    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt (3D, default gicp) | "
+    "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -114,8 +115,7 @@ int main(int argc, char** argv) {
   const std::string config = args.get("--config"), keyframes = args.get("--keyframes"),
                     carmen = args.get("--carmen"), corrected = args.get("--corrected"),
                     out_path = args.get("--out"), out_dir = args.get("--out_dir"),
-                    rows = args.get("--rows", "all"),
-                    registration = args.get("--registration", "gicp");
+                    rows = args.get("--rows", "all"), registration = args.get("--registration");
   if (config.empty() || keyframes.empty() == carmen.empty() || carmen.empty() != corrected.empty())
     return fail("--config and either --keyframes or --carmen with --corrected are required");
   if (rows != "all" && rows != "even" && rows != "odd")
@@ -136,7 +136,8 @@ int main(int argc, char** argv) {
   std::vector<double> stamps;
   GraphSettings graph;
   eval::LoopCandidateConfig cand_cfg = eval::evaluationCandidates(dim, verdict.tolerance);
-  cand_cfg.registration = registration;
+  if (!registration.empty()) cand_cfg.registration = registration;  // else the dimension's
+  if (const std::string e = cand_cfg.validate(); !e.empty()) return fail("--registration: " + e);
   if (!keyframes.empty()) {
     if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &set.scans,
                                     &set.ref, &err) ||

@@ -3,7 +3,8 @@
 // LIO-SAM and hdl_graph_slam propose them, registered from the odometry's relative pose, and
 // (b) as look-alike places (any two scans, far apart in the reference) registered from
 // several headings, as a place recognizer's false match followed by ICP hands them over.
-// Registration is PCL's (GICP in 3D, point-to-point ICP with a planar estimator in 2D).
+// Registration is PCL's (GICP or NDT in 3D; point-to-point ICP with a planar estimator or
+// point-to-line ICP in 2D).
 // Every registered candidate is labelled by its error against the reference relative pose:
 // true when within the tolerance, false when off by `false_multiple` tolerances or more
 // (those are "wrong but locally optimal": ICP converged there); in between it is left out.
@@ -20,9 +21,11 @@ namespace coral_introspection {
 namespace eval {
 
 struct LoopCandidateConfig {
-  int dimension = 3;  // 2: planar ICP (x, y, yaw), 3: `registration`
-  // 3D registration: "gicp" (PCL GeneralizedIterativeClosestPoint) or "ndt" (PCL
+  int dimension = 3;  // 2: planar registration (x, y, yaw), 3: 6 DoF
+  // 3D: "gicp" (PCL GeneralizedIterativeClosestPoint) or "ndt" (PCL
   // NormalDistributionsTransform, ndt_resolution cells), the two hdl_graph_slam offers.
+  // 2D: "icp" (PCL point-to-point ICP, planar estimator) or "point_to_line" (PCL point-to-plane
+  // ICP with 2D line normals, x, y, yaw: PL-ICP, as ROS's laser_scan_matcher registers scans).
   std::string registration = "gicp";
   double ndt_resolution = 1.0;          // [m] NDT cell size (hdl_graph_slam's default)
   int min_index_gap = 50;               // [scans] a loop joins scans at least this far apart
@@ -66,8 +69,8 @@ struct LoopCandidate {
 // odometry poses, at least 50 keyframes apart, registered from the odometry; CARMEN logs
 // (dimension 2), whose raw odometry drifts by metres, propose them where the reference says
 // (a working place recognizer), at least 30 corrected scans apart (up to 300 revisits and 60
-// look-alike pairs), registered from the reference moved by 0.5 m and 10 deg. Tolerance: the
-// preset's.
+// look-alike pairs), registered by point-to-point ICP from the reference moved by 0.5 m and
+// 10 deg. Tolerance: the preset's.
 LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceConfig& tolerance);
 
 // Registers b onto a from T_init (b's points into a's frame) and fills T_a_b, converged,

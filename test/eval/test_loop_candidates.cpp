@@ -1,0 +1,67 @@
+// Registration of loop candidates (eval/loop_candidates.hpp): the 2D registrations on the
+// planar synthetic yard pair, whose relative pose is known, and the registration names each
+// dimension accepts.
+#include <gtest/gtest.h>
+
+#include "coral_introspection/eval/loop_candidates.hpp"
+#include "support/yard_pair.hpp"
+
+namespace coral_introspection {
+namespace {
+
+// The error of registering the yard pair from its true pose moved by (dx, dy, dyaw).
+void registeredError(const std::string& registration, const Eigen::Isometry3d& start_offset,
+                     double* t, double* r_deg) {
+  const test::YardPair p = test::yardPair(1);
+  eval::LoopCandidateConfig cfg = eval::evaluationCandidates(2, coral::ToleranceConfig());
+  cfg.registration = registration;
+  ASSERT_EQ(cfg.validate(), "");
+  eval::LoopCandidate c;
+  eval::registerPair(p.a.points, p.b.points, p.T_a_b * start_offset, cfg, &c);
+  ASSERT_TRUE(c.converged) << registration;
+  eval::relativeError(c.T_a_b, p.T_a_b, t, r_deg);
+}
+
+TEST(LoopCandidates, PointToLineRegistrationReachesTheKnownPose) {
+  // From a back end's guess 0.5 m and 10 deg off (the evaluation's offset), as the CARMEN
+  // revisits are registered again.
+  for (const Eigen::Isometry3d& d :
+       {coral::se2(0.5, 0.0, 10.0 * M_PI / 180.0), coral::se2(0.0, -0.5, -10.0 * M_PI / 180.0)}) {
+    double t = 0, r = 0;
+    registeredError("point_to_line", d, &t, &r);
+    EXPECT_LT(t, 0.05);  // [m] a sixth of the 0.3 m tolerance
+    EXPECT_LT(r, 0.5);   // [deg]
+  }
+}
+
+TEST(LoopCandidates, PointToLineStaysPlanar) {
+  const test::YardPair p = test::yardPair(1);
+  eval::LoopCandidateConfig cfg = eval::evaluationCandidates(2, coral::ToleranceConfig());
+  cfg.registration = "point_to_line";
+  eval::LoopCandidate c;
+  eval::registerPair(p.a.points, p.b.points, p.T_a_b * coral::se2(0.3, 0.2, 0.1), cfg, &c);
+  EXPECT_NEAR(c.T_a_b.translation().z(), 0.0, 1e-6);
+  EXPECT_NEAR(std::abs(c.T_a_b.linear()(2, 2)), 1.0, 1e-6);  // rotation about z only
+}
+
+TEST(LoopCandidates, EachDimensionNamesItsRegistrations) {
+  const coral::ToleranceConfig tol;
+  EXPECT_EQ(eval::evaluationCandidates(2, tol).registration, "icp");
+  EXPECT_EQ(eval::evaluationCandidates(3, tol).registration, "gicp");
+  for (const char* ok : {"icp", "point_to_line"}) {
+    eval::LoopCandidateConfig c = eval::evaluationCandidates(2, tol);
+    c.registration = ok;
+    EXPECT_EQ(c.validate(), "") << ok;
+  }
+  for (const char* bad : {"gicp", "ndt", "point-to-line", ""}) {
+    eval::LoopCandidateConfig c = eval::evaluationCandidates(2, tol);
+    c.registration = bad;
+    EXPECT_NE(c.validate().find("icp or point_to_line for 2D"), std::string::npos) << bad;
+  }
+  eval::LoopCandidateConfig c3 = eval::evaluationCandidates(3, tol);
+  c3.registration = "point_to_line";
+  EXPECT_NE(c3.validate().find("gicp or ndt for 3D"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace coral_introspection
