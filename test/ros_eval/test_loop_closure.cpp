@@ -146,6 +146,16 @@ TEST(LoopClosure, Lidar2dOnTheAcesLoops) {
                    coral_data + "/aces.relations", {180, 250, 75, 0, 10});
 }
 
+// The ACES log's loop set as coral_loop_eval builds it (its corrected poses are shipped with
+// the Intel data).
+bool loadAcesLoopSet(const eval::LoopCandidateConfig& cfg, eval::CarmenLoopSet* set,
+                     std::string* err) {
+  const std::string dir = coral_test::dataDir();
+  return eval::loadCarmenLoopSet(dir + "/radish_aces/aces.clf.bz2",
+                                 dir + "/radish_intel/aces_corrected_poses_on_raw.csv",
+                                 dir + "/radish_aces/aces.relations", cfg, 30, 10, set, err);
+}
+
 // The same ACES relations registered again by point-to-line ICP (PL-ICP, as ROS's
 // laser_scan_matcher registers scans; coral_loop_eval --registration point_to_line) instead of
 // point-to-point ICP: the true registrations end closer to the relations, and the look-alike
@@ -165,11 +175,7 @@ TEST(LoopClosure, Lidar2dOnTheAcesLoopsRegisteredPointToLine) {
     cfg.registration = registration;
     eval::CarmenLoopSet set;
     std::string err;
-    ASSERT_TRUE(eval::loadCarmenLoopSet(
-        coral_data + "/aces.clf.bz2",
-        coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
-        coral_data + "/aces.relations", cfg, 30, 10, &set, &err))
-        << err;
+    ASSERT_TRUE(loadAcesLoopSet(cfg, &set, &err)) << err;
     std::vector<double> e;
     for (const eval::LoopCandidate& c : set.revisits)
       if (c.source == "relation_icp" && c.is_true) e.push_back(c.error_translation);
@@ -208,11 +214,7 @@ TEST(LoopClosure, Lidar2dRefinementOffersThePoseOfRelationsLeftShort) {
   cfg.max_radius_candidates = 0;  // the relations as they are; no registrations needed here
   eval::CarmenLoopSet set;
   std::string err;
-  ASSERT_TRUE(eval::loadCarmenLoopSet(
-      coral_data + "/aces.clf.bz2",
-      coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
-      coral_data + "/aces.relations", cfg, 30, 10, &set, &err))
-      << err;
+  ASSERT_TRUE(loadAcesLoopSet(cfg, &set, &err)) << err;
   online::IntrospectorConfig refine = node.online, plain = node.online;
   refine.verdict = coral::loopClosureVerdict(node.online.verdict);
   plain.verdict = refine.verdict;
