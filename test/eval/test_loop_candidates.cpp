@@ -9,17 +9,17 @@
 namespace coral_introspection {
 namespace {
 
-// The error of registering the yard pair from its true pose moved by (dx, dy, dyaw).
-void registeredError(const std::string& registration, const Eigen::Isometry3d& start_offset,
-                     double* t, double* r_deg) {
+// The yard pair registered by `registration` from its true pose moved by start_offset.
+eval::LoopCandidate registerYard(const std::string& registration,
+                                 const Eigen::Isometry3d& start_offset, Eigen::Isometry3d* T_true) {
   const test::YardPair p = test::yardPair(1);
   eval::LoopCandidateConfig cfg = eval::evaluationCandidates(2, coral::ToleranceConfig());
   cfg.registration = registration;
-  ASSERT_EQ(cfg.validate(), "");
+  EXPECT_EQ(cfg.validate(), "");
   eval::LoopCandidate c;
   eval::registerPair(p.a.points, p.b.points, p.T_a_b * start_offset, cfg, &c);
-  ASSERT_TRUE(c.converged) << registration;
-  eval::relativeError(c.T_a_b, p.T_a_b, t, r_deg);
+  *T_true = p.T_a_b;
+  return c;
 }
 
 TEST(LoopCandidates, PointToLineRegistrationReachesTheKnownPose) {
@@ -27,19 +27,19 @@ TEST(LoopCandidates, PointToLineRegistrationReachesTheKnownPose) {
   // revisits are registered again.
   for (const Eigen::Isometry3d& d :
        {coral::se2(0.5, 0.0, 10.0 * M_PI / 180.0), coral::se2(0.0, -0.5, -10.0 * M_PI / 180.0)}) {
+    Eigen::Isometry3d T_true;
+    const eval::LoopCandidate c = registerYard("point_to_line", d, &T_true);
+    ASSERT_TRUE(c.converged);
     double t = 0, r = 0;
-    registeredError("point_to_line", d, &t, &r);
+    eval::relativeError(c.T_a_b, T_true, &t, &r);
     EXPECT_LT(t, 0.05);  // [m] a sixth of the 0.3 m tolerance
     EXPECT_LT(r, 0.5);   // [deg]
   }
 }
 
 TEST(LoopCandidates, PointToLineStaysPlanar) {
-  const test::YardPair p = test::yardPair(1);
-  eval::LoopCandidateConfig cfg = eval::evaluationCandidates(2, coral::ToleranceConfig());
-  cfg.registration = "point_to_line";
-  eval::LoopCandidate c;
-  eval::registerPair(p.a.points, p.b.points, p.T_a_b * coral::se2(0.3, 0.2, 0.1), cfg, &c);
+  Eigen::Isometry3d T_true;
+  const eval::LoopCandidate c = registerYard("point_to_line", coral::se2(0.3, 0.2, 0.1), &T_true);
   EXPECT_NEAR(c.T_a_b.translation().z(), 0.0, 1e-6);
   EXPECT_NEAR(std::abs(c.T_a_b.linear()(2, 2)), 1.0, 1e-6);  // rotation about z only
 }

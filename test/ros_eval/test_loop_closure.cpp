@@ -101,28 +101,47 @@ TEST(LoopClosure, Lidar3dOnTheLivoxLoop) {
   expectTally(t, {30, 120, 95, 0, 10});
 }
 
-// A CARMEN log (eval/carmen_loops.hpp, as coral_loop_eval builds it): look-alike places
-// between the corrected scans, the benchmark loop relations as they are and registered again
-// from a perturbed pose (labelled against the relation); unreadable data fails the test.
-void checkCarmenLoops(const char* label, const std::string& log_path, const std::string& corrected,
-                      const std::string& relations, const Expected& expected) {
+// The loop set of a shared CARMEN log ("intel" or "aces"; eval/carmen_loops.hpp, as
+// coral_loop_eval builds it): look-alike places between the corrected scans, the benchmark
+// loop relations as they are and registered again from a perturbed pose (labelled against
+// the relation). Both logs' corrected poses are shipped with the Intel data.
+bool loadCarmenLoops(const std::string& log, const eval::LoopCandidateConfig& cfg,
+                     eval::CarmenLoopSet* set, std::string* err) {
+  const std::string dir = coral_test::dataDir(), log_dir = dir + "/radish_" + log + "/";
+  return eval::loadCarmenLoopSet(log_dir + log + ".clf.bz2",
+                                 dir + "/radish_intel/" + log + "_corrected_poses_on_raw.csv",
+                                 log_dir + log + ".relations", cfg, 30, 10, set, err);
+}
+
+// The lidar_2d loop verdict on every candidate of a log's loop set, its candidates registered
+// again by `registration` (eval::LoopCandidateConfig); *median_error (optional): the median
+// translation error of the true re-registrations. Unreadable data fails the test.
+void checkCarmenLoops(const std::string& log, const std::string& registration,
+                      const Expected& expected, double* median_error = nullptr) {
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_2d", &node);
-  LoopTally t;
+  eval::LoopCandidateConfig cfg = candidateConfig(2, node.online.verdict.tolerance);
+  cfg.registration = registration;
   eval::CarmenLoopSet set;
   std::string err;
-  ASSERT_TRUE(eval::loadCarmenLoopSet(log_path, corrected, relations,
-                                      candidateConfig(2, node.online.verdict.tolerance), 30, 10,
-                                      &set, &err))
-      << err;
+  ASSERT_TRUE(loadCarmenLoops(log, cfg, &set, &err)) << err;
+  LoopTally t;
   for (const eval::LoopCandidate& c : set.lookalikes)
     judge(node, set.scans[c.a].scan, set.scans[c.b].scan, c.T_a_b, c.is_true, &t);
   for (std::size_t k = 0; k < set.revisits.size(); k += coral_test::pairStride()) {
     const eval::LoopCandidate& c = set.revisits[k];
     judge(node, set.rel_scans[c.a].scan, set.rel_scans[c.b].scan, c.T_a_b, c.is_true, &t);
   }
-  print(label, t);
+  print(("lidar_2d, " + log + ", " + registration + " registration").c_str(), t);
   expectTally(t, expected);
+  if (!median_error) return;
+  std::vector<double> errors;  // of every true re-registration (judged or not)
+  for (const eval::LoopCandidate& c : set.revisits)
+    if (c.source == "relation_icp" && c.is_true) errors.push_back(c.error_translation);
+  ASSERT_FALSE(errors.empty()) << registration;
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  *median_error = errors[errors.size() / 2];
+  std::cout << "median error of the true registrations " << *median_error << " m\n";
 }
 
 // Measured (doc/loop_closure.md, all rows): 1512 true (1246 relations, 266 registered again
@@ -131,71 +150,27 @@ void checkCarmenLoops(const char* label, const std::string& log_path, const std:
 // lidar_2d was trained on ACES: this is a cross-data-set figure.
 TEST(LoopClosure, Lidar2dOnTheIntelLoops) {
   CORAL_REQUIRE_DATA("radish_intel");
-  checkCarmenLoops("lidar_2d, Intel", coral_data + "/intel.clf.bz2",
-                   coral_data + "/intel_corrected_poses_on_raw.csv",
-                   coral_data + "/intel.relations", {1450, 300, 90, 2, 10});
+  checkCarmenLoops("intel", "icp", {1450, 300, 90, 2, 10});
 }
 
-// ACES (corridors: errors along them are unobservable, doc/verdict_pairs.md). Measured: 197
-// true, 280 false; loop verdict 152 true, 0 false (without its constraint term 156 and 7,
-// without its free-space term 157 and 2); the relative check alone 36 false.
+// ACES (corridors: errors along them are unobservable, doc/verdict_pairs.md), its relations
+// registered again by point-to-point ICP and by point-to-line ICP (PL-ICP, as ROS's
+// laser_scan_matcher registers scans; coral_loop_eval --registration point_to_line).
+// Measured (doc/loop_closure.md, all rows):
+// - point-to-point: 197 true, 280 false; loop verdict 152 true, 0 false (without its
+//   constraint term 156 and 7, without its free-space term 157 and 2); the relative check
+//   alone 36 false. Median error of the true registrations 0.128 m.
+// - point-to-line: the true registrations end closer to the relations (median 0.059 m), and
+//   the look-alike places ICP converges on are better fitted too: 189 true, 290 false; loop
+//   verdict 155 true, 6 false accepted (5 look-alikes 22-37 m apart and a relation registered
+//   1.3 m off: the verdict's 0 false holds for the point-to-point registration only); the
+//   relative check alone 49 false.
 TEST(LoopClosure, Lidar2dOnTheAcesLoops) {
   CORAL_REQUIRE_DATA("radish_aces");
-  checkCarmenLoops("lidar_2d, ACES", coral_data + "/aces.clf.bz2",
-                   coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
-                   coral_data + "/aces.relations", {180, 250, 75, 0, 10});
-}
-
-// The ACES log's loop set as coral_loop_eval builds it (its corrected poses are shipped with
-// the Intel data).
-bool loadAcesLoopSet(const eval::LoopCandidateConfig& cfg, eval::CarmenLoopSet* set,
-                     std::string* err) {
-  const std::string dir = coral_test::dataDir();
-  return eval::loadCarmenLoopSet(dir + "/radish_aces/aces.clf.bz2",
-                                 dir + "/radish_intel/aces_corrected_poses_on_raw.csv",
-                                 dir + "/radish_aces/aces.relations", cfg, 30, 10, set, err);
-}
-
-// The same ACES relations registered again by point-to-line ICP (PL-ICP, as ROS's
-// laser_scan_matcher registers scans; coral_loop_eval --registration point_to_line) instead of
-// point-to-point ICP: the true registrations end closer to the relations, and the look-alike
-// places ICP converges on are better fitted too. Measured (doc/loop_closure.md, all rows): 189
-// true, 290 false; loop verdict 155 true, 6 false accepted (5 look-alikes 22-37 m apart and a
-// relation registered 1.3 m off: the verdict's 0 false holds for the point-to-point
-// registration only); the relative check alone 49 false. Median error of the true
-// registrations 0.059 m (point-to-point: 0.128 m).
-TEST(LoopClosure, Lidar2dOnTheAcesLoopsRegisteredPointToLine) {
-  CORAL_REQUIRE_DATA("radish_aces");
-  ros_adapters::NodeConfig node;
-  coral_test::loadPreset("lidar_2d", &node);
-  std::vector<double> median;  // of the true registrations' errors: icp, point_to_line
-  eval::CarmenLoopSet pl;
-  for (const char* registration : {"icp", "point_to_line"}) {
-    eval::LoopCandidateConfig cfg = candidateConfig(2, node.online.verdict.tolerance);
-    cfg.registration = registration;
-    eval::CarmenLoopSet set;
-    std::string err;
-    ASSERT_TRUE(loadAcesLoopSet(cfg, &set, &err)) << err;
-    std::vector<double> e;
-    for (const eval::LoopCandidate& c : set.revisits)
-      if (c.source == "relation_icp" && c.is_true) e.push_back(c.error_translation);
-    ASSERT_FALSE(e.empty()) << registration;
-    std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
-    median.push_back(e[e.size() / 2]);
-    std::cout << registration << ": median error of the true registrations " << median.back()
-              << " m\n";
-    pl = std::move(set);
-  }
-  if (coral_test::pairStride() == 1) EXPECT_LT(median[1], 0.7 * median[0]);
-  LoopTally t;
-  for (const eval::LoopCandidate& c : pl.lookalikes)
-    judge(node, pl.scans[c.a].scan, pl.scans[c.b].scan, c.T_a_b, c.is_true, &t);
-  for (std::size_t k = 0; k < pl.revisits.size(); k += coral_test::pairStride()) {
-    const eval::LoopCandidate& c = pl.revisits[k];
-    judge(node, pl.rel_scans[c.a].scan, pl.rel_scans[c.b].scan, c.T_a_b, c.is_true, &t);
-  }
-  print("lidar_2d, ACES, point-to-line registration", t);
-  expectTally(t, {180, 250, 80, 6, 5});
+  double point_to_point = 0.0, point_to_line = 0.0;
+  checkCarmenLoops("aces", "icp", {180, 250, 75, 0, 10}, &point_to_point);
+  checkCarmenLoops("aces", "point_to_line", {180, 250, 80, 6, 5}, &point_to_line);
+  if (coral_test::pairStride() == 1) EXPECT_LT(point_to_line, 0.7 * point_to_point);
 }
 
 // The loop gate's refinement (lidar_2d loop_closure/max_refinement 0.5, coral/refinement.hpp)
@@ -214,7 +189,7 @@ TEST(LoopClosure, Lidar2dRefinementOffersThePoseOfRelationsLeftShort) {
   cfg.max_radius_candidates = 0;  // the relations as they are; no registrations needed here
   eval::CarmenLoopSet set;
   std::string err;
-  ASSERT_TRUE(loadAcesLoopSet(cfg, &set, &err)) << err;
+  ASSERT_TRUE(loadCarmenLoops("aces", cfg, &set, &err)) << err;
   online::IntrospectorConfig refine = node.online, plain = node.online;
   refine.verdict = coral::loopClosureVerdict(node.online.verdict);
   plain.verdict = refine.verdict;
