@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "coral_introspection/coral/refinement.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/trajectory_metrics.hpp"
@@ -306,4 +307,65 @@ TEST(PoseGraph, TumAndKittiWritersRoundTrip) {
   err.clear();
   EXPECT_FALSE(writeTumTrajectory(dir + "/pg_bad.tum", {0.0}, poses, &err));  // size mismatch
   EXPECT_FALSE(err.empty());
+}
+
+// The back end's check after the gate (optimizePrunedPoseGraph): of three right loop edges and
+// one 5 m off, the wrong one is left with the largest residual and removed, and the graph
+// solved without it returns to the truth; the right ones stay. With a cap of no removal the
+// wrong edge is kept and the graph is reported inconsistent; a bad pruning config is refused.
+TEST(PoseGraph, PruningRemovesTheWrongLoopEdgeOnly) {
+  const Isometries truth = square(10, 10.0, 0.0);
+  const Isometries odo = drift(truth, 0.01, 0.0, false);
+  std::vector<PoseGraphEdge> edges = odometryEdges(odo, 0.05, 0.01);
+  for (const auto& ft : {std::make_pair(39, 0), std::make_pair(30, 10), std::make_pair(25, 5)})
+    edges.push_back(edge(truth, ft.first, ft.second, true));
+  PoseGraphEdge wrong = edge(truth, 0, 20, true);
+  wrong.T_from_to.translation() += Vec3(0.0, 5.0, 0.0);
+  edges.push_back(wrong);
+  const int wrong_index = static_cast<int>(edges.size()) - 1;
+  for (PoseGraphEdge& e : edges)
+    if (e.loop) {
+      e.sigma_translation = 0.05;
+      e.sigma_rotation = 0.01;
+    }
+  const PoseGraphConfig cfg = robustContinuationConfig(2);
+  ToleranceConfig tol;  // 0.3 m, 2 deg
+  LoopPruning pruning;  // 3 tolerances
+
+  Isometries huber = odo;
+  ASSERT_TRUE(optimizePoseGraph(edges, cfg, &huber, nullptr));
+  Isometries pruned = odo;
+  std::vector<int> removed;
+  bool consistent = false;
+  PoseGraphResult res;
+  ASSERT_TRUE(
+      optimizePrunedPoseGraph(edges, cfg, tol, pruning, &pruned, &removed, &consistent, &res))
+      << res.error;
+  const double ate_huber = absoluteTrajectoryError(huber, truth, 2);
+  const double ate_pruned = absoluteTrajectoryError(pruned, truth, 2);
+  std::printf("pruning: removed %zu edge(s), ATE huber %.3f, pruned %.3f m\n", removed.size(),
+              ate_huber, ate_pruned);
+  ASSERT_EQ(removed, std::vector<int>{wrong_index});
+  EXPECT_TRUE(consistent);
+  EXPECT_GT(ate_huber, 3.0 * ate_pruned);  // Huber alone is still bent by the wrong edge
+  EXPECT_LT(ate_pruned, 0.05);
+  for (const PoseGraphEdge& e : edges)  // every kept loop edge explained within the tolerance
+    if (e.loop && &e != &edges.back())
+      EXPECT_LT(toleranceSize(e.T_from_to.inverse() * pruned[e.from].inverse() * pruned[e.to], tol),
+                1.0);
+
+  pruning.max_removals = 0;  // the cap: nothing removed, the wrong edge reported
+  Isometries capped = odo;
+  ASSERT_TRUE(
+      optimizePrunedPoseGraph(edges, cfg, tol, pruning, &capped, &removed, &consistent, &res));
+  EXPECT_TRUE(removed.empty());
+  EXPECT_FALSE(consistent);
+  EXPECT_NEAR(absoluteTrajectoryError(capped, truth, 2), ate_huber, 1e-9);
+
+  pruning.max_residual = 0.0;
+  Isometries untouched = odo;
+  EXPECT_FALSE(
+      optimizePrunedPoseGraph(edges, cfg, tol, pruning, &untouched, &removed, &consistent, &res));
+  EXPECT_NE(res.error.find("max_residual"), std::string::npos) << res.error;
+  EXPECT_TRUE(untouched[5].isApprox(odo[5]));
 }

@@ -33,6 +33,16 @@ bool LogNodes::attach(double stamp, int max_lines, int* node,
   return true;
 }
 
+bool LogNodes::edge(double stamp_a, double stamp_b, const Eigen::Isometry3d& T_a_b, int max_lines,
+                    int* node_a, int* node_b, Eigen::Isometry3d* T_from_to) const {
+  Eigen::Isometry3d A, B;
+  if (!attach(stamp_a, max_lines, node_a, &A) || !attach(stamp_b, max_lines, node_b, &B) ||
+      *node_a == *node_b)
+    return false;
+  *T_from_to = A * T_a_b * B.inverse();
+  return true;
+}
+
 RelationError relationError(const LogNodes& nodes, const coral::Isometries& T_world_node,
                             const std::vector<Relation>& relations, int max_lines) {
   RelationError e;
@@ -67,12 +77,12 @@ bool relationGraph(const LogNodes& nodes, const coral::Isometries& T_world_odom,
   std::vector<PoseGraphEdge> edges =
       odometryEdges(T_world_odom, kLogOdometrySigmaT, kLogOdometrySigmaR);
   for (const Relation& r : relations) {
-    int k1, k2;
-    Eigen::Isometry3d A1, A2;
-    if (!nodes.attach(r.t1, max_lines, &k1, &A1) || !nodes.attach(r.t2, max_lines, &k2, &A2) ||
-        k1 == k2)
-      continue;
-    edges.push_back({k1, k2, A1 * r.T_1_2 * A2.inverse(), 0.05, 0.01, true});
+    PoseGraphEdge e;
+    if (!nodes.edge(r.t1, r.t2, r.T_1_2, max_lines, &e.from, &e.to, &e.T_from_to)) continue;
+    e.sigma_translation = kLoopEdgeSigmaT;
+    e.sigma_rotation = kLoopEdgeSigmaR;
+    e.loop = true;
+    edges.push_back(e);
     ++figures->edges;
   }
   *poses = T_world_odom;

@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <limits>
 
+#include "coral_introspection/coral/refinement.hpp"
 #include "coral_introspection/coral/validation.hpp"
 #include "coral_introspection/eval/trajectory_metrics.hpp"
 
@@ -211,6 +212,73 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
     }
   }
   return true;
+}
+
+std::string LoopPruning::validate() const {
+  return coral::Problems()
+      .require(std::isfinite(max_residual) && max_residual > 0.0, "max_residual",
+               "> 0 [tolerances]", max_residual)
+      .require(max_removals >= 0, "max_removals", ">= 0", max_removals)
+      .str();
+}
+
+bool optimizePrunedPoseGraph(std::vector<PoseGraphEdge> edges, const PoseGraphConfig& cfg,
+                             const coral::ToleranceConfig& tolerance, const LoopPruning& pruning,
+                             coral::Isometries* poses, std::vector<int>* removed, bool* consistent,
+                             PoseGraphResult* result) {
+  PoseGraphResult local;
+  PoseGraphResult& res = result ? *result : local;
+  if (removed) removed->clear();
+  if (consistent) *consistent = false;
+  const std::string problems = coral::Problems()
+                                   .nested("pruning", pruning.validate())
+                                   .nested("tolerance", tolerance.validate())
+                                   .str();
+  if (!problems.empty()) return coral::fail(&res.error, problems);
+  if (!poses) return coral::fail(&res.error, "pose graph without poses");
+  // The loop edge the poses explain worst and its residual [tolerances] (edges.size(), 0 when
+  // there is no loop edge).
+  auto worstLoopEdge = [&](const std::vector<PoseGraphEdge>& es, const coral::Isometries& T) {
+    std::pair<std::size_t, double> worst(es.size(), 0.0);
+    for (std::size_t k = 0; k < es.size(); ++k) {
+      if (!es[k].loop) continue;
+      const double size = coral::toleranceSize(
+          es[k].T_from_to.inverse() * T[es[k].from].inverse() * T[es[k].to], tolerance);
+      if (size > worst.second) worst = {k, size};
+    }
+    return worst;
+  };
+  std::vector<int> index(edges.size());  // position in the caller's `edges`
+  for (std::size_t k = 0; k < index.size(); ++k) index[k] = static_cast<int>(k);
+  coral::Isometries solved = *poses;
+  if (!optimizePoseGraph(edges, cfg, &solved, &res)) return false;
+  // Later solves start at the last optimum, without the continuation: the cost starts at the
+  // last one less the removed edge's and only falls.
+  PoseGraphConfig warm = cfg;
+  warm.loop_sigma_schedule.clear();
+  for (int round = 0;; ++round) {
+    std::size_t worst = edges.size();
+    double worst_size = pruning.max_residual;
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+      const PoseGraphEdge& e = edges[k];
+      if (!e.loop) continue;
+      const Eigen::Isometry3d E = e.T_from_to.inverse() * solved[e.from].inverse() * solved[e.to];
+      const double size = coral::toleranceSize(E, tolerance);
+      if (size > worst_size) {
+        worst_size = size;
+        worst = k;
+      }
+    }
+    if (worst == edges.size() || round == pruning.max_removals) {
+      if (consistent) *consistent = worst == edges.size();
+      *poses = solved;
+      return true;
+    }
+    if (removed) removed->push_back(index[worst]);
+    edges.erase(edges.begin() + static_cast<std::ptrdiff_t>(worst));
+    index.erase(index.begin() + static_cast<std::ptrdiff_t>(worst));
+    if (!optimizePoseGraph(edges, warm, &solved, &res)) return false;
+  }
 }
 
 std::vector<PoseGraphEdge> odometryEdges(const coral::Isometries& odom_poses,

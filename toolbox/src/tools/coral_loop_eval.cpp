@@ -7,11 +7,14 @@
 //   3. per gate, a keyframe pose graph (odometry edges + the accepted loop edges) optimised
 //      with Ceres (eval/pose_graph.hpp, loop sigmas by continuation); ATE against the
 //      reference poses and, for CARMEN logs, the benchmark's relation error; trajectories
-//      written as TUM and KITTI files with --out_dir.
+//      written as TUM and KITTI files with --out_dir;
+//   4. with --prune TOLERANCES, per gate, the same graph after a back end's consistency check
+//      (eval::optimizePrunedPoseGraph: loop edges the optimum leaves more than TOLERANCES off
+//      removed, worst first), its ATE and relation error (--out_dir: GATE_pruned.tum / .kitti).
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt (3D) | icp|point_to_line (2D)]
-//       [--out FILE.csv] [--out_dir DIR]
+//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -45,7 +48,8 @@ namespace {
 constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt (3D, default gicp) | "
-    "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR]";
+    "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES "
+    "(e.g. 3)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -54,7 +58,8 @@ int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg
 // kLogOdometrySigmaT/R; a registered loop edge to about the tolerance's tenth. Huber on loop
 // edges and the continuation: eval::robustContinuationConfig.
 struct GraphSettings {
-  double odom_t = 0.05, odom_r = 0.01, loop_t = 0.05, loop_r = 0.01;
+  double odom_t = 0.05, odom_r = 0.01;
+  double loop_t = eval::kLoopEdgeSigmaT, loop_r = eval::kLoopEdgeSigmaR;
 };
 
 // A candidate and the one CorAl evaluation every CorAl gate decides from.
@@ -105,7 +110,7 @@ int main(int argc, char** argv) {
   std::string err;
   if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--keyframes", "--carmen", "--corrected", "--out",
-                            "--out_dir", "--rows", "--registration"},
+                            "--out_dir", "--rows", "--registration", "--prune"},
                            {}, &args, &err))
     return fail(err);
   if (args.help) {
@@ -120,6 +125,13 @@ int main(int argc, char** argv) {
     return fail("--config and either --keyframes or --carmen with --corrected are required");
   if (rows != "all" && rows != "even" && rows != "odd")
     return fail("--rows must be all, even or odd (got '" + rows + "')");
+  eval::LoopPruning pruning;  // --prune: max_residual; absent: no pruned graphs
+  const bool prune = args.has("--prune");
+  if (prune) {
+    if (!eval::numberOption(args, "--prune", pruning.max_residual, &pruning.max_residual, &err))
+      return fail(err);
+    if (const std::string e = pruning.validate(); !e.empty()) return fail("--prune: " + e);
+  }
   ros_adapters::NodeConfig node;
   coral::VerdictConfig verdict;
   if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
@@ -181,14 +193,11 @@ int main(int argc, char** argv) {
   for (const eval::LoopCandidate& c : set.revisits) {
     const std::vector<eval::TrainingScan>& rs = set.rel_scans;
     Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict);
-    // An edge between the nodes its scans hang off: T_node_a_a * T_a_b * T_node_b_b^-1.
-    Eigen::Isometry3d A, B;
-    j.in_graph = nodes.attach(rs[c.a].stamp, kAttachLines, &j.node_a, &A) &&
-                 nodes.attach(rs[c.b].stamp, kAttachLines, &j.node_b, &B) && j.node_a != j.node_b;
-    if (j.in_graph) {
-      j.T_edge = A * c.T_a_b * B.inverse();
-      j.T_edge_refined = A * c.T_a_b * j.v_refined.refinement.delta * B.inverse();
-    }
+    // An edge between the nodes its scans hang off.
+    j.in_graph = nodes.edge(rs[c.a].stamp, rs[c.b].stamp, c.T_a_b, kAttachLines, &j.node_a,
+                            &j.node_b, &j.T_edge) &&
+                 nodes.edge(rs[c.a].stamp, rs[c.b].stamp, c.T_a_b * j.v_refined.refinement.delta,
+                            kAttachLines, &j.node_a, &j.node_b, &j.T_edge_refined);
     judged.push_back(j);
   }
   std::vector<const Judged*> table;  // the rows of the gate table
@@ -244,23 +253,43 @@ int main(int argc, char** argv) {
               "edges", set.relations.empty() ? "" : "  rel [m]  rel [deg]");
   std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
               relErr(odom).c_str());
+  // Per gate, the graph after the back end's consistency check (eval::optimizePrunedPoseGraph).
+  struct Pruned {
+    std::string gate;
+    coral::Isometries poses;
+    int removed_true = 0, removed_false = 0;
+    bool consistent = false;
+  };
+  std::vector<Pruned> pruned;
   for (const std::string& gate : eval::loopGateNames()) {
     int ta = 0, fa = 0;
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
+    std::vector<bool> edge_true;  // per loop edge
     for (const Judged* j : table) {
       bool refined = false;
       if (!eval::loopGateAccepts(gate, j->c, j->v, verdict,
                                  j->has_refined ? &j->v_refined : nullptr, &refined))
         continue;
       (j->c.is_true ? ta : fa)++;
-      if (j->in_graph)  // the rows' candidates between scans of the graph; refined: that pose
-        edges.push_back({j->node_a, j->node_b, refined ? j->T_edge_refined : j->T_edge,
-                         graph.loop_t, graph.loop_r, true});
+      if (!j->in_graph) continue;  // the rows' candidates between scans of the graph
+      edges.push_back({j->node_a, j->node_b, refined ? j->T_edge_refined : j->T_edge,  // refined:
+                       graph.loop_t, graph.loop_r, true});                             // that pose
+      edge_true.push_back(j->c.is_true);
     }
     coral::Isometries poses = odom;
     eval::PoseGraphResult res;
     if (!eval::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
     const double ate = eval::absoluteTrajectoryError(poses, ref, dim);
+    // --prune: a back end's consistency check after the gate, same edges (printed below).
+    Pruned p;
+    p.gate = gate;
+    p.poses = odom;
+    std::vector<int> removed;
+    if (prune && !eval::optimizePrunedPoseGraph(edges, pg, verdict.tolerance, pruning, &p.poses,
+                                                &removed, &p.consistent, &res))
+      return fail(gate + " (pruned): " + res.error);
+    for (int k : removed) (edge_true[k - odom_edges.size()] ? p.removed_true : p.removed_false)++;
+    if (prune) pruned.push_back(p);
     std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu%s\n", gate.c_str(), ta, n_true, fa,
                 n_false, ate, edges.size() - odom_edges.size(), relErr(poses).c_str());
     if (!out_dir.empty()) {
@@ -268,9 +297,23 @@ int main(int argc, char** argv) {
       std::replace(name.begin(), name.end(), '<', '_');
       std::replace(name.begin(), name.end(), '=', '_');
       if (!eval::writeTumTrajectory(out_dir + "/" + name + ".tum", stamps, poses, &err) ||
-          !eval::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err))
+          !eval::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err) ||
+          (prune && !eval::writeTumTrajectory(out_dir + "/" + name + "_pruned.tum", stamps, p.poses,
+                                              &err) ||
+           !eval::writeKittiPoses(out_dir + "/" + name + "_pruned.kitti", p.poses, &err)))
         return fail(err);
     }
   }
+  if (!prune) return 0;
+  std::printf(
+      "\nafter a back end's consistency check (loop edges the optimum leaves more than %.1f "
+      "tolerances off removed, worst first, at most %d; the edges above):\n",
+      pruning.max_residual, pruning.max_removals);
+  std::printf("%-14s %14s %14s %10s%s\n", "gate", "removed true", "removed false", "ATE [m]",
+              set.relations.empty() ? "" : "  rel [m]  rel [deg]");
+  for (const Pruned& p : pruned)
+    std::printf("%-14s %14d %14d %10.3f%s%s\n", p.gate.c_str(), p.removed_true, p.removed_false,
+                eval::absoluteTrajectoryError(p.poses, ref, dim), relErr(p.poses).c_str(),
+                p.consistent ? "" : "  (stopped at the cap: still inconsistent)");
   return 0;
 }

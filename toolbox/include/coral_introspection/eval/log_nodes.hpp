@@ -25,6 +25,12 @@ class LogNodes {
   // the nearest node is more than max_lines away.
   bool attach(double stamp, int max_lines, int* node, Eigen::Isometry3d* T_node_scan) const;
 
+  // A measurement T_a_b between the raw scans stamped stamp_a and stamp_b as an edge between
+  // the nodes they hang off: *T_from_to = T_node_a_a * T_a_b * T_node_b_b^-1. False when
+  // either scan does not attach within max_lines or both attach to the same node.
+  bool edge(double stamp_a, double stamp_b, const Eigen::Isometry3d& T_a_b, int max_lines,
+            int* node_a, int* node_b, Eigen::Isometry3d* T_from_to) const;
+
  private:
   const std::vector<CarmenLaserScan>& log_;
   std::vector<int> raw_index_;

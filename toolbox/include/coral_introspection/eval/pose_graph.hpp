@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/tolerance.hpp"
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
@@ -23,6 +24,10 @@ struct PoseGraphEdge {
   double sigma_rotation = 0.01;    // [rad] per axis, > 0
   bool loop = false;               // loop-closure edge (the robust loss applies to these only)
 };
+
+// Sigmas of a registered loop edge [m], [rad]: about a tenth of the tolerance (the relation
+// graph of a CARMEN log, coral_loop_eval's loop edges).
+constexpr double kLoopEdgeSigmaT = 0.05, kLoopEdgeSigmaR = 0.01;
 
 struct PoseGraphConfig {
   // 2: planar, each pose optimises x, y, yaw (z, roll, pitch held at their initial values;
@@ -59,6 +64,31 @@ struct PoseGraphResult {
 // out of range or from == to, or a non-positive / non-finite sigma.
 bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphConfig& cfg,
                        coral::Isometries* poses, PoseGraphResult* result);
+
+// A consistency check a back end may run after its loop gate: solve, find the loop edge the
+// optimum explains worst, and when its residual exceeds `max_residual` tolerances
+// (coral::toleranceSize of T_from_to^-1 T_world_from^-1 T_world_to) remove it and solve again
+// from that optimum (without the continuation), at most `max_removals` times. One wrong edge
+// among many right ones bends the graph near it and is left with the largest residual; when
+// wrong edges are many (an ICP-fitness gate), they bend it together and max_removals ends the
+// search first, with *consistent false. It only works where the odometry and the right edges
+// agree to within max_residual: on the Intel log's raw odometry the optimum leaves right
+// edges farther off than that, and the graph folds without them (doc/loop_closure.md).
+// *removed: the removed edges' indices into `edges`, worst first; *consistent: every remaining
+// loop edge within max_residual; *poses: the last solve. False with result->error (poses
+// untouched) on an invalid pruning or tolerance config, or when a solve fails
+// (optimizePoseGraph's reasons).
+struct LoopPruning {
+  // [tolerances] > 0: well past the 2 tolerances from which a loop candidate is false
+  // (eval/loop_candidates.hpp), so that a right edge the optimum leaves strained is kept.
+  double max_residual = 3.0;
+  int max_removals = 25;         // >= 0; solves: at most max_removals + 1
+  std::string validate() const;  // empty when valid
+};
+bool optimizePrunedPoseGraph(std::vector<PoseGraphEdge> edges, const PoseGraphConfig& cfg,
+                             const coral::ToleranceConfig& tolerance, const LoopPruning& pruning,
+                             coral::Isometries* poses, std::vector<int>* removed, bool* consistent,
+                             PoseGraphResult* result);
 
 // Edges k -> k+1 with the relative poses of consecutive odometry poses (loop = false).
 std::vector<PoseGraphEdge> odometryEdges(const coral::Isometries& odom_poses,
