@@ -296,12 +296,13 @@ int main(int argc, char** argv) {
       std::string name = gate;
       std::replace(name.begin(), name.end(), '<', '_');
       std::replace(name.begin(), name.end(), '=', '_');
-      if (!eval::writeTumTrajectory(out_dir + "/" + name + ".tum", stamps, poses, &err) ||
-          !eval::writeKittiPoses(out_dir + "/" + name + ".kitti", poses, &err) ||
-          (prune && !eval::writeTumTrajectory(out_dir + "/" + name + "_pruned.tum", stamps, p.poses,
-                                              &err) ||
-           !eval::writeKittiPoses(out_dir + "/" + name + "_pruned.kitti", p.poses, &err)))
-        return fail(err);
+      const std::string base = out_dir + "/" + name;
+      bool ok = eval::writeTumTrajectory(base + ".tum", stamps, poses, &err) &&
+                eval::writeKittiPoses(base + ".kitti", poses, &err);
+      if (ok && prune)
+        ok = eval::writeTumTrajectory(base + "_pruned.tum", stamps, p.poses, &err) &&
+             eval::writeKittiPoses(base + "_pruned.kitti", p.poses, &err);
+      if (!ok) return fail(err);
     }
   }
   if (!prune) return 0;
