@@ -257,20 +257,10 @@ bool optimizePrunedPoseGraph(std::vector<PoseGraphEdge> edges, const PoseGraphCo
   PoseGraphConfig warm = cfg;
   warm.loop_sigma_schedule.clear();
   for (int round = 0;; ++round) {
-    std::size_t worst = edges.size();
-    double worst_size = pruning.max_residual;
-    for (std::size_t k = 0; k < edges.size(); ++k) {
-      const PoseGraphEdge& e = edges[k];
-      if (!e.loop) continue;
-      const Eigen::Isometry3d E = e.T_from_to.inverse() * solved[e.from].inverse() * solved[e.to];
-      const double size = coral::toleranceSize(E, tolerance);
-      if (size > worst_size) {
-        worst_size = size;
-        worst = k;
-      }
-    }
-    if (worst == edges.size() || round == pruning.max_removals) {
-      if (consistent) *consistent = worst == edges.size();
+    const auto [worst, size] = worstLoopEdge(edges, solved);
+    const bool strained = size > pruning.max_residual;
+    if (!strained || round == pruning.max_removals) {
+      if (consistent) *consistent = !strained;
       *poses = solved;
       return true;
     }
