@@ -7,22 +7,37 @@ export ROS_HOME="${ROS_HOME:-${CORAL_WS}/ros_home}"
 export PYTHONNOUSERSITE=1
 unset PYTHONPATH PYTHONHOME
 
+# Links this source tree into the catkin workspace $1 and prints --force-cmake when the link
+# pointed elsewhere before (another clone): the test binaries carry the source path that
+# CMake resolved (CORAL_SOURCE_DIR), and catkin_make does not re-run CMake for a moved link,
+# so without it the tests would read the other clone's configs.
+coral_link_source() {
+  local link="$1/src/coral_introspection"
+  mkdir -p "$1/src"
+  if [ "$(readlink "${link}" 2>/dev/null)" != "${CORAL_REPO}" ]; then
+    ln -sfn "${CORAL_REPO}" "${link}"
+    if [ -f "$1/build/CMakeCache.txt" ]; then echo "--force-cmake"; fi
+  fi
+  return 0
+}
+
 # Builds (incrementally) the package and, with argument "tests", its test targets; with
 # argument "demo" only what scripts/demo.sh runs (the nodelet plugin, the two demo programs
 # and the messages), not every tool.
 coral_build() {
-  mkdir -p "${CORAL_WS}/src" "${ROS_HOME}"
-  ln -sfn "${CORAL_REPO}" "${CORAL_WS}/src/coral_introspection"
-  local jobs
+  mkdir -p "${ROS_HOME}"
+  local jobs force
+  force="$(coral_link_source "${CORAL_WS}")"
   jobs="$(nproc)"
   (
     cd "${CORAL_WS}"
+    # shellcheck disable=SC2086  # ${force}: empty or one word
     if [ "${1:-}" = "demo" ]; then
-      catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" \
-        coral_introspection_generate_messages coral_introspection_nodelets coral_demo_pair \
+      catkin_make ${force} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+        -j"${jobs}" coral_introspection_generate_messages coral_introspection_nodelets coral_demo_pair \
         coral_sequence_demo
     else
-      catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
+      catkin_make ${force} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
     fi
     if [ "${1:-}" = "tests" ]; then
       catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests

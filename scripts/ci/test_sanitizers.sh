@@ -16,14 +16,14 @@ SAN_FLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recove
 SAN_FLAGS+=" -fno-omit-frame-pointer -fsanitize=fuzzer-no-link"
 FUZZERS="fuzz_polar_rip fuzz_cloud_conversion fuzz_coral"
 
-mkdir -p "${CORAL_WS_SAN}/src"
-ln -sfn "${CORAL_REPO}" "${CORAL_WS_SAN}/src/coral_introspection"
+force="$(coral_link_source "${CORAL_WS_SAN}")"
 start=$(date +%s)
 (
   cd "${CORAL_WS_SAN}"
   # Only the libraries the tests and harnesses link, the tests and the harnesses: no
   # nodelet plugin, nodes or tools (they add build time and nothing runs them here).
-  catkin_make -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  # shellcheck disable=SC2086
+  catkin_make ${force} -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_CXX_FLAGS="${SAN_FLAGS}" -DCMAKE_C_FLAGS="${SAN_FLAGS}" -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCORAL_FUZZ=ON \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"$(nproc)" tests ${FUZZERS}

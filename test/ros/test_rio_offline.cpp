@@ -57,6 +57,23 @@ Result rioOffline(const std::string& bag, const std::string& config, const std::
   return r;
 }
 
+// The figures of rio_offline's "loop end-point error" line; ok is false when it is absent.
+struct LoopEnd {
+  bool ok = false;
+  double horizontal = 0.0, vertical = 0.0, yaw = 0.0, x = 0.0, y = 0.0;
+};
+
+LoopEnd loopEnd(const std::string& out) {
+  LoopEnd e;
+  const std::size_t at = out.find("loop end-point error: ");
+  if (at == std::string::npos) return e;
+  e.ok = std::sscanf(out.c_str() + at,
+                     "loop end-point error: horizontal %lf m, vertical %lf m, yaw %lf deg; end "
+                     "(x, y) in the start-heading frame (%lf, %lf) m",
+                     &e.horizontal, &e.vertical, &e.yaw, &e.x, &e.y) == 5;
+  return e;
+}
+
 // Refused: status 1, `reason` on stderr, no trajectory written, no end-point figure.
 void expectRefused(const Result& r, const std::string& reason) {
   EXPECT_EQ(r.status, 1) << r.err;
@@ -168,33 +185,29 @@ TEST(RioOffline, TiBagEndsWithinTheIssueTargets) {
   CORAL_REQUIRE_DATA("ti_mmwave_demo");
   const Result r = rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", kTiConfig, "targets");
   ASSERT_EQ(r.status, 0) << r.err;
-  double horizontal = 0.0, vertical = 0.0, yaw = 0.0, x = 0.0, y = 0.0;
-  const std::size_t at = r.out.find("loop end-point error: ");
-  ASSERT_NE(at, std::string::npos) << r.out;
-  ASSERT_EQ(std::sscanf(r.out.c_str() + at,
-                        "loop end-point error: horizontal %lf m, vertical %lf m, yaw %lf deg; end "
-                        "(x, y) in the start-heading frame (%lf, %lf) m",
-                        &horizontal, &vertical, &yaw, &x, &y),
-            5)
-      << r.out;
-  EXPECT_LT(std::hypot(x - 0.04, y - 0.05), 0.10) << r.out;
-  EXPECT_LT(std::abs(yaw + 3.2), 2.5) << r.out;
-  EXPECT_LT(std::abs(vertical), 0.10) << r.out;
+  const LoopEnd e = loopEnd(r.out);
+  ASSERT_TRUE(e.ok) << r.out;
+  EXPECT_LT(std::hypot(e.x - 0.04, e.y - 0.05), 0.10) << r.out;
+  EXPECT_LT(std::abs(e.yaw + 3.2), 2.5) << r.out;
+  EXPECT_LT(std::abs(e.vertical), 0.10) << r.out;
 }
 
 // time_offset/estimate=false with the elevation sigma of the defaults and the barometer off
-// is the odometry of before the estimate, digit for digit (the figures of doc/rio.md before
-// it: 0.0576215 m, -1.34299 m, -3.12789 deg).
+// is the odometry of before the estimate (the figures of doc/rio.md before it: 0.0576215 m,
+// -1.34299 m, -3.12789 deg). Not digit for digit: a sanitizer build on another CPU printed
+// 0.0576156 m, -1.34298 m, -3.12801 deg (CI, 2026-12-02), so 2e-4 m and 2e-3 deg. Estimating
+// the offset under the same settings moves the figures by 2.7e-3 m, 5.8e-3 m and 0.056 deg.
 TEST(RioOffline, TimeOffsetNotEstimatedIsTheOdometryOfBefore) {
   CORAL_REQUIRE_DATA("ti_mmwave_demo");
   const Result r = rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", kTiConfig, "td_off",
                               "--set time_offset/estimate=false --set barometer/enabled=false "
                               "--set uncertainty/sigma_elevation=0.0088");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("loop end-point error: horizontal 0.0576215 m, vertical -1.34299 m, yaw "
-                       "-3.12789 deg"),
-            std::string::npos)
-      << r.out;
+  const LoopEnd e = loopEnd(r.out);
+  ASSERT_TRUE(e.ok) << r.out;
+  EXPECT_NEAR(e.horizontal, 0.0576215, 2e-4) << r.out;
+  EXPECT_NEAR(e.vertical, -1.34299, 2e-4) << r.out;
+  EXPECT_NEAR(e.yaw, -3.12789, 2e-3) << r.out;
   EXPECT_NE(r.out.find("radar-IMU time offset: 0.00925 s (configured, not estimated)"),
             std::string::npos)
       << r.out;
