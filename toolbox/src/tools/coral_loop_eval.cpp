@@ -10,11 +10,14 @@
 //      written as TUM and KITTI files with --out_dir;
 //   4. with --prune TOLERANCES, per gate, the same graph after a back end's consistency check
 //      (eval::optimizePrunedPoseGraph: loop edges the optimum leaves more than TOLERANCES off
-//      removed, worst first), its ATE and relation error (--out_dir: GATE_pruned.tum / .kitti).
+//      removed, worst first), its ATE and relation error (--out_dir: GATE_pruned.tum / .kitti);
+//   5. with --pcm PROBABILITY, per gate, the graph of the largest set of pairwise consistent
+//      loop edges (eval/pairwise_consistency.hpp: PCM's cycles through the odometry under a
+//      chi-square bound of that probability) (--out_dir: GATE_pcm.tum / .kitti).
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt (3D) | icp|point_to_line (2D)]
-//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES]
+//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -27,6 +30,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <string>
@@ -36,6 +40,7 @@
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
 #include "coral_introspection/eval/loop_gates.hpp"
+#include "coral_introspection/eval/pairwise_consistency.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
@@ -49,7 +54,7 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt (3D, default gicp) | "
     "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES "
-    "(e.g. 3)]";
+    "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -110,7 +115,7 @@ int main(int argc, char** argv) {
   std::string err;
   if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--keyframes", "--carmen", "--corrected", "--out",
-                            "--out_dir", "--rows", "--registration", "--prune"},
+                            "--out_dir", "--rows", "--registration", "--prune", "--pcm"},
                            {}, &args, &err))
     return fail(err);
   if (args.help) {
@@ -125,13 +130,20 @@ int main(int argc, char** argv) {
     return fail("--config and either --keyframes or --carmen with --corrected are required");
   if (rows != "all" && rows != "even" && rows != "odd")
     return fail("--rows must be all, even or odd (got '" + rows + "')");
-  eval::LoopPruning pruning;  // --prune: max_residual; absent: no pruned graphs
-  const bool prune = args.has("--prune");
-  if (prune) {
-    if (!eval::numberOption(args, "--prune", pruning.max_residual, &pruning.max_residual, &err))
-      return fail(err);
-    if (const std::string e = pruning.validate(); !e.empty()) return fail("--prune: " + e);
-  }
+  // An optional number whose config validates it (absent: that back-end check is not run).
+  auto checked = [&](const char* name, double* value,
+                     const std::function<std::string()>& problems) {
+    err.clear();
+    if (!eval::numberOption(args, name, *value, value, &err)) return false;
+    if (const std::string e = problems(); !e.empty()) err = std::string(name) + ": " + e;
+    return err.empty();
+  };
+  eval::LoopPruning pruning;            // --prune: max_residual
+  eval::PairwiseConsistencyConfig pcm;  // --pcm: probability
+  const bool prune = args.has("--prune"), use_pcm = args.has("--pcm");
+  if ((prune && !checked("--prune", &pruning.max_residual, [&] { return pruning.validate(); })) ||
+      (use_pcm && !checked("--pcm", &pcm.probability, [&] { return pcm.validate(); })))
+    return fail(err);
   ros_adapters::NodeConfig node;
   coral::VerdictConfig verdict;
   if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
@@ -253,14 +265,16 @@ int main(int argc, char** argv) {
               "edges", set.relations.empty() ? "" : "  rel [m]  rel [deg]");
   std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
               relErr(odom).c_str());
-  // Per gate, the graph after the back end's consistency check (eval::optimizePrunedPoseGraph).
-  struct Pruned {
+  // Per gate, the graph after a back end's check of the accepted loop edges: --prune
+  // (eval::optimizePrunedPoseGraph) and --pcm (eval::pairwiseInconsistentLoops).
+  struct Checked {
     std::string gate;
     coral::Isometries poses;
     int removed_true = 0, removed_false = 0;
-    bool consistent = false;
+    bool consistent = true;  // --prune: every remaining loop edge within its bound
   };
-  std::vector<Pruned> pruned;
+  std::vector<Checked> pruned, pcm_checked;
+  if (use_pcm) pcm.dimension = dim;
   for (const std::string& gate : eval::loopGateNames()) {
     int ta = 0, fa = 0;
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
@@ -280,16 +294,27 @@ int main(int argc, char** argv) {
     eval::PoseGraphResult res;
     if (!eval::optimizePoseGraph(edges, pg, &poses, &res)) return fail(gate + ": " + res.error);
     const double ate = eval::absoluteTrajectoryError(poses, ref, dim);
-    // --prune: a back end's consistency check after the gate, same edges (printed below).
-    Pruned p;
-    p.gate = gate;
-    p.poses = odom;
+    // Back-end checks after the gate, same edges (printed below).
+    auto count = [&](const std::vector<int>& removed, Checked* c) {
+      for (int k : removed)
+        (edge_true[k - odom_edges.size()] ? c->removed_true : c->removed_false)++;
+    };
+    Checked p{gate, odom};
     std::vector<int> removed;
     if (prune && !eval::optimizePrunedPoseGraph(edges, pg, verdict.tolerance, pruning, &p.poses,
                                                 &removed, &p.consistent, &res))
       return fail(gate + " (pruned): " + res.error);
-    for (int k : removed) (edge_true[k - odom_edges.size()] ? p.removed_true : p.removed_false)++;
+    count(removed, &p);
     if (prune) pruned.push_back(p);
+    Checked q{gate, odom};
+    if (use_pcm) {
+      if (!eval::pairwiseInconsistentLoops(edges, pcm, &removed, &err))
+        return fail(gate + ": " + err);
+      count(removed, &q);
+      if (!eval::optimizePoseGraph(eval::keptEdges(edges, removed), pg, &q.poses, &res))
+        return fail(gate + " (pcm): " + res.error);
+      pcm_checked.push_back(q);
+    }
     std::printf("%-14s %8d / %-4d %8d / %-4d %10.3f %10zu%s\n", gate.c_str(), ta, n_true, fa,
                 n_false, ate, edges.size() - odom_edges.size(), relErr(poses).c_str());
     if (!out_dir.empty()) {
@@ -302,19 +327,33 @@ int main(int argc, char** argv) {
       if (ok && prune)
         ok = eval::writeTumTrajectory(base + "_pruned.tum", stamps, p.poses, &err) &&
              eval::writeKittiPoses(base + "_pruned.kitti", p.poses, &err);
+      if (ok && use_pcm)
+        ok = eval::writeTumTrajectory(base + "_pcm.tum", stamps, q.poses, &err) &&
+             eval::writeKittiPoses(base + "_pcm.kitti", q.poses, &err);
       if (!ok) return fail(err);
     }
   }
-  if (!prune) return 0;
-  std::printf(
-      "\nafter a back end's consistency check (loop edges the optimum leaves more than %.1f "
-      "tolerances off removed, worst first, at most %d; the edges above):\n",
-      pruning.max_residual, pruning.max_removals);
-  std::printf("%-14s %14s %14s %10s%s\n", "gate", "removed true", "removed false", "ATE [m]",
-              set.relations.empty() ? "" : "  rel [m]  rel [deg]");
-  for (const Pruned& p : pruned)
-    std::printf("%-14s %14d %14d %10.3f%s%s\n", p.gate.c_str(), p.removed_true, p.removed_false,
-                eval::absoluteTrajectoryError(p.poses, ref, dim), relErr(p.poses).c_str(),
-                p.consistent ? "" : "  (stopped at the cap: still inconsistent)");
+  auto table_of = [&](const std::vector<Checked>& checked) {
+    std::printf("%-14s %14s %14s %10s%s\n", "gate", "removed true", "removed false", "ATE [m]",
+                set.relations.empty() ? "" : "  rel [m]  rel [deg]");
+    for (const Checked& c : checked)
+      std::printf("%-14s %14d %14d %10.3f%s%s\n", c.gate.c_str(), c.removed_true, c.removed_false,
+                  eval::absoluteTrajectoryError(c.poses, ref, dim), relErr(c.poses).c_str(),
+                  c.consistent ? "" : "  (stopped at the cap: still inconsistent)");
+  };
+  if (prune) {
+    std::printf(
+        "\nafter a back end's consistency check (loop edges the optimum leaves more than %.1f "
+        "tolerances off removed, worst first, at most %d; the edges above):\n",
+        pruning.max_residual, pruning.max_removals);
+    table_of(pruned);
+  }
+  if (use_pcm) {
+    std::printf(
+        "\nafter pairwise consistency (PCM: the largest set of loop edges whose cycles through the "
+        "odometry close within the chi-square bound of probability %.4g; the edges above):\n",
+        pcm.probability);
+    table_of(pcm_checked);
+  }
   return 0;
 }
