@@ -2,7 +2,6 @@
 // misaligned lidar pair (.pcd + .bin), exit status 2 with a message on bad input, and a
 // radar pair from the Oxford PNGs when the shared data is present.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -18,6 +17,7 @@
 #include "coral_introspection/eval/synthetic.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "support/preset.hpp"
+#include "support/run_tool.hpp"
 #include "support/test_data.hpp"
 
 using namespace coral_introspection::coral;
@@ -26,26 +26,9 @@ using coral_test::tempPath;
 
 namespace {
 
-struct CheckRun {
-  int status = -1;
-  std::string out, err;
-};
+using CheckRun = coral_test::ToolRun;
 
-CheckRun runCheck(const std::string& args) {
-  const std::string err_path = tempPath("coral_check_err", ".txt");
-  const std::string cmd = std::string(CORAL_CHECK_EXE) + " " + args + " 2>" + err_path;
-  CheckRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (p && fgets(buf, sizeof(buf), p)) r.out += buf;
-  const int st = p ? pclose(p) : -1;
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  std::ifstream e(err_path);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  return r;
-}
+CheckRun runCheck(const std::string& args) { return coral_test::runTool(CORAL_CHECK_EXE, args); }
 
 // Value of "key": in the one-line JSON object (number or true/false), as text.
 std::string field(const std::string& json, const std::string& key) {

@@ -1,40 +1,10 @@
 // coral_loop_eval refuses what it cannot run, before it reads any data: exit 2, the reason on
 // stderr naming the option, nothing on stdout (no table a script could take for a result).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 
-#include "support/test_data.hpp"
-
-namespace {
-
-struct ToolRun {
-  int status = -1;
-  std::string out, err;
-};
-
-ToolRun loopEval(const std::string& args) {
-  const std::string err_path = coral_test::tempPath("loop_eval_err", ".txt");
-  const std::string cmd = std::string(CORAL_LOOP_EVAL_EXE) + " " + args + " 2>" + err_path;
-  ToolRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  while (p && fgets(buf, sizeof(buf), p)) r.out += buf;
-  const int st = p ? pclose(p) : -1;
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  std::ifstream e(err_path);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  std::remove(err_path.c_str());
-  return r;
-}
-
-}  // namespace
+#include "support/run_tool.hpp"
 
 TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
   const std::string config = std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml";
@@ -52,7 +22,7 @@ TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
       {"--keyframes /nonexistent_keyframes", "--config and either --keyframes or --carmen"},
   };
   for (const auto& c : cases) {
-    const ToolRun r = loopEval(c.args);
+    const coral_test::ToolRun r = coral_test::runTool(CORAL_LOOP_EVAL_EXE, c.args);
     EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
     EXPECT_NE(r.err.find(c.reason), std::string::npos) << c.args << "\n" << r.err;
     EXPECT_EQ(r.out, "") << c.args;
