@@ -6,17 +6,16 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/PointCloud2.h>
-#include <sys/wait.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "support/run_tool.hpp"
 #include "support/test_data.hpp"
 
 using coral_test::tempPath;
@@ -24,13 +23,6 @@ using coral_test::tempPath;
 namespace {
 
 const std::string kTiConfig = std::string(CORAL_SOURCE_DIR) + "/config/rio_ti_mmwave.yaml";
-
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
 
 bool exists(const std::string& path) { return std::ifstream(path).good(); }
 
@@ -44,16 +36,12 @@ Result rioOffline(const std::string& bag, const std::string& config, const std::
   Result r;
   r.trajectory = tempPath("rio_" + name, ".tum");
   std::remove(r.trajectory.c_str());
-  const std::string out = tempPath("rio_" + name, ".out"), err = tempPath("rio_" + name, ".err");
-  const int st =
-      std::system((std::string(RIO_OFFLINE_EXE) + " --bag " + bag + " --config " + config +
-                   " --output " + r.trajectory + " " + options + " >" + out + " 2>" + err)
-                      .c_str());
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  r.out = readFile(out);
-  r.err = readFile(err);
-  std::remove(out.c_str());
-  std::remove(err.c_str());
+  const coral_test::ToolRun run =
+      coral_test::runTool(RIO_OFFLINE_EXE, "--bag " + bag + " --config " + config + " --output " +
+                                               r.trajectory + " " + options);
+  r.status = run.status;
+  r.out = run.out;
+  r.err = run.err;
   return r;
 }
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "coral_introspection/coral/validation.hpp"
+#include "coral_introspection/rio/so3.hpp"
 
 namespace coral_introspection {
 namespace eval {
@@ -31,10 +32,8 @@ struct Tangent {
       A(2, 2) = 1.0;
     } else {
       const Eigen::Matrix3d R = T.linear();
-      Eigen::Matrix3d tx;
-      tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
       A.template topLeftCorner<3, 3>() = R;
-      A.template topRightCorner<3, 3>() = tx * R;
+      A.template topRightCorner<3, 3>() = rio::skew(t) * R;
       A.template bottomRightCorner<3, 3>() = R;
     }
     return A;
@@ -46,8 +45,7 @@ struct Tangent {
     if constexpr (N == 3) {
       e << T.translation().x(), T.translation().y(), std::atan2(T.linear()(1, 0), T.linear()(0, 0));
     } else {
-      const Eigen::AngleAxisd aa(T.linear());
-      e << T.translation(), aa.angle() * aa.axis();
+      e << T.translation(), rio::logQ(Eigen::Quaterniond(T.linear()));
     }
     return e;
   }
@@ -140,6 +138,8 @@ bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                 A * TS::covariance(e.sigma_translation, e.sigma_rotation) * A.transpose());
   }
   const int nodes = static_cast<int>(P.size());
+  std::vector<Mat> ad_inv(nodes);  // Ad_(P_k^-1), used by every pair
+  for (int k = 0; k < nodes; ++k) ad_inv[k] = TS::adjoint(P[k].inverse());
   for (int k : loops)
     if (std::min(edges[k].from, edges[k].to) < 0 || std::max(edges[k].from, edges[k].to) >= nodes)
       return coral::fail(error, "pairwise consistency: loop edge " + std::to_string(k) +
@@ -147,10 +147,18 @@ bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
   boost::math::chi_squared chi2(N);
   const double bound = boost::math::quantile(chi2, cfg.probability);
   const int n = static_cast<int>(loops.size());
+  // Per loop edge, the covariance of its noise and of its inverse's noise:
+  // (Zb Exp(beta))^-1 = Zb^-1 Exp(-Ad_Zb beta).
+  std::vector<Mat> cov(n), inverse_cov(n);
+  for (int x = 0; x < n; ++x) {
+    const PoseGraphEdge& e = edges[loops[x]];
+    const Mat Ad = TS::adjoint(e.T_from_to);
+    cov[x] = TS::covariance(e.sigma_translation, e.sigma_rotation);
+    inverse_cov[x] = Ad * cov[x] * Ad.transpose();
+  }
   BitGraph g(n);
   for (int x = 0; x < n; ++x) {
     const PoseGraphEdge& a = edges[loops[x]];
-    const Mat Sa = TS::covariance(a.sigma_translation, a.sigma_rotation);
     for (int y = x + 1; y < n; ++y) {
       const PoseGraphEdge& b = edges[loops[y]];
       // The cycle i -Za-> k -odom-> l -Zb^-1-> j -odom-> i of loops a (i -> k) and b (j -> l):
@@ -159,18 +167,14 @@ bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
       const int i = a.from, k = a.to, j = b.from, l = b.to;
       const Eigen::Isometry3d B = P[k].inverse() * P[l], D = P[j].inverse() * P[i];
       const Eigen::Isometry3d C = b.T_from_to.inverse(), CD = C * D, BCD = B * CD;
-      // (Zb Exp(beta))^-1 = Zb^-1 Exp(-Ad_Zb beta).
-      const Mat Ab = TS::adjoint(b.T_from_to);
-      const Mat SC = Ab * TS::covariance(b.sigma_translation, b.sigma_rotation) * Ab.transpose();
       const Mat A1 = TS::adjoint(BCD.inverse()), A3 = TS::adjoint(D.inverse());
-      Mat S = A1 * Sa * A1.transpose() + A3 * SC * A3.transpose();
+      Mat S = A1 * cov[x] * A1.transpose() + A3 * inverse_cov[y] * A3.transpose();
       // Odometry step m's noise n_m in a segment from u to v, moved to the segment's end, is
       // +-Ad_(P_v^-1) Ad_(P_(m+1)) n_m (+ forward, - when the segment runs back along the
       // chain), then moved past the rest of the cycle. Steps both segments run over (nested
       // loops) enter twice, correlated: their matrices are summed before the covariance.
-      const Mat MB =
-          (k <= l ? 1.0 : -1.0) * TS::adjoint(CD.inverse()) * TS::adjoint(P[l].inverse());
-      const Mat MD = (j <= i ? 1.0 : -1.0) * TS::adjoint(P[i].inverse());
+      const Mat MB = (k <= l ? 1.0 : -1.0) * TS::adjoint(CD.inverse()) * ad_inv[l];
+      const Mat MD = (j <= i ? 1.0 : -1.0) * ad_inv[i];
       const int b0 = std::min(k, l), b1 = std::max(k, l), d0 = std::min(j, i), d1 = std::max(j, i);
       const int o0 = std::max(b0, d0), o1 = std::max(o0, std::min(b1, d1));  // shared steps
       const Mat Go = G[o1] - G[o0];

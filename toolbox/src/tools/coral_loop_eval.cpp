@@ -321,16 +321,15 @@ int main(int argc, char** argv) {
       std::string name = gate;
       std::replace(name.begin(), name.end(), '<', '_');
       std::replace(name.begin(), name.end(), '=', '_');
-      const std::string base = out_dir + "/" + name;
-      bool ok = eval::writeTumTrajectory(base + ".tum", stamps, poses, &err) &&
-                eval::writeKittiPoses(base + ".kitti", poses, &err);
-      if (ok && prune)
-        ok = eval::writeTumTrajectory(base + "_pruned.tum", stamps, p.poses, &err) &&
-             eval::writeKittiPoses(base + "_pruned.kitti", p.poses, &err);
-      if (ok && use_pcm)
-        ok = eval::writeTumTrajectory(base + "_pcm.tum", stamps, q.poses, &err) &&
-             eval::writeKittiPoses(base + "_pcm.kitti", q.poses, &err);
-      if (!ok) return fail(err);
+      // OUT_DIR/GATE[suffix].tum and .kitti.
+      auto write = [&](const std::string& suffix, const coral::Isometries& T) {
+        const std::string base = out_dir + "/" + name + suffix;
+        return eval::writeTumTrajectory(base + ".tum", stamps, T, &err) &&
+               eval::writeKittiPoses(base + ".kitti", T, &err);
+      };
+      if (!write("", poses) || (prune && !write("_pruned", p.poses)) ||
+          (use_pcm && !write("_pcm", q.poses)))
+        return fail(err);
     }
   }
   auto table_of = [&](const std::vector<Checked>& checked) {
