@@ -112,6 +112,50 @@ TEST(VerdictSamples, LayoutOrderingThreadsAndShards) {
   EXPECT_NE(err.find("shard_index"), std::string::npos) << err;
 }
 
+// aligned_spread: aligned samples a share of the tolerance off, between the exact pose and
+// the misaligned offsets, at the scaled offsets, and with Q between the two on average.
+TEST(VerdictSamples, AlignedSpreadAddsLabelledAlignedPosesInsideTheTolerance) {
+  std::vector<TrainingScan> scans;
+  std::vector<ScanPair> pairs;
+  planarSequence(9, 3, &scans, &pairs);
+  VerdictSampleConfig cfg = planarConfig();
+  cfg.threads = 1;
+  SampleSet exact, spread;
+  std::string err;
+  ASSERT_TRUE(buildVerdictSamples("yard", scans, pairs, cfg, nullptr, &exact, &err)) << err;
+  cfg.aligned_spread = 0.5;
+  ASSERT_TRUE(buildVerdictSamples("yard", scans, pairs, cfg, nullptr, &spread, &err)) << err;
+  ASSERT_EQ(spread.samples.size(), 8u * 13u);  // exact + 6 within + 6 misaligned per pair
+  double q_exact = 0, q_within = 0, q_offset = 0;
+  for (std::size_t p = 0; p < 8; ++p) {
+    const Sample* s = &spread.samples[13 * p];
+    const Sample* e = &exact.samples[7 * p];
+    EXPECT_EQ(s[0].offset, "aligned");
+    EXPECT_EQ(s[0].features, e[0].features);  // the exact pose's sample is unchanged
+    for (int k = 1; k < 7; ++k) {
+      EXPECT_EQ(s[k].label, 1);
+      EXPECT_EQ(s[k].group, "");
+      EXPECT_EQ(s[k].offset, e[k].offset + "@0.5");
+      EXPECT_EQ(s[6 + k].offset, e[k].offset);
+      EXPECT_EQ(s[6 + k].label, 0);
+      EXPECT_EQ(s[6 + k].features, e[k].features);
+      q_exact += s[0].features[1][0] / 48;
+      q_within += s[k].features[1][0] / 48;
+      q_offset += s[6 + k].features[1][0] / 48;
+    }
+    EXPECT_DOUBLE_EQ(s[1].dx, 0.15);                             // x+@0.5: half of 0.3 m
+    EXPECT_NEAR(s[5].dyaw, 2.5 * M_PI / 180, 1e-12);             // yaw+@0.5: half of 5 deg
+    EXPECT_DOUBLE_EQ(s[1].features[1][1], s[1].features[1][1]);  // probes computed (not NaN)
+  }
+  EXPECT_LT(q_exact, q_within);
+  EXPECT_LT(q_within, q_offset);
+  for (double bad : {-0.1, 1.0}) {
+    cfg.aligned_spread = bad;
+    EXPECT_FALSE(buildVerdictSamples("yard", scans, pairs, cfg, nullptr, &spread, &err));
+    EXPECT_NE(err.find("aligned_spread"), std::string::npos) << err;
+  }
+}
+
 TEST(VerdictEvaluation, ScenariosPerDataSetAndMethodChoice) {
   SampleSet set;
   std::string err;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "coral_introspection/coral/coral_pair.hpp"
@@ -24,6 +25,8 @@ std::string VerdictSampleConfig::validate() const {
       .nested("tolerance", tolerance.validate())
       .require(threads >= 0, "threads", ">= 0", threads)
       .require(probe_queries >= 0, "probe_queries", ">= 0", probe_queries)
+      .require(aligned_spread >= 0.0 && aligned_spread < 1.0, "aligned_spread", "in [0, 1)",
+               aligned_spread)
       .require(shard_count >= 1, "shard_count", ">= 1", shard_count)
       .require(shard_index >= 0 && shard_index < shard_count, "shard_index", "in [0, shard_count)",
                shard_index)
@@ -99,29 +102,54 @@ class PairEvaluator {
   std::map<Key, double> probe_;
 };
 
+// One sample to compute: its offset from the pose and its label.
+struct SampleSpec {
+  Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+  std::string offset = Sample().offset;  // "aligned" for the exact pose
+  std::string group;                     // "" for every aligned sample
+  int label = 1;
+};
+
+// The exact pose, the aligned poses `aligned_spread` tolerances off (named "x+@0.5", ...) and
+// the misaligned one-tolerance offsets, in this order.
+std::vector<SampleSpec> sampleSpecs(const VerdictSampleConfig& cfg,
+                                    const std::vector<coral::ToleranceOffset>& offsets) {
+  std::vector<SampleSpec> specs(1);  // the exact pose
+  if (cfg.aligned_spread > 0.0) {
+    coral::ToleranceConfig near = cfg.tolerance;
+    near.translation *= cfg.aligned_spread;
+    near.rotation_deg *= cfg.aligned_spread;
+    std::ostringstream share;
+    share << "@" << cfg.aligned_spread;
+    for (const coral::ToleranceOffset& o : coral::toleranceOffsets(near, cfg.coral.dimension))
+      specs.push_back({o.delta, o.name + share.str(), "", 1});
+  }
+  for (const coral::ToleranceOffset& o : offsets)
+    specs.push_back(
+        {o.delta, o.name, coral::isRotation(o.axis) ? kRotationGroup : kTranslationGroup, 0});
+  return specs;
+}
+
 std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
                                 const std::vector<TrainingScan>& scans, const ScanPair& pr,
                                 const std::vector<coral::ToleranceOffset>& offsets,
+                                const std::vector<SampleSpec>& specs,
                                 const VerdictSampleConfig& cfg, CoralCost* cost) {
   PairEvaluator eval(scans[pr.a].scan, scans[pr.b].scan, pr.T_a_b, cfg.coral, cfg.probe_queries);
   std::vector<Sample> out;
-  for (int s = -1; s < static_cast<int>(offsets.size()); ++s) {  // -1: the aligned sample
+  for (const SampleSpec& spec : specs) {
     Sample x;
     x.pair = pair_index;
     x.dataset = dataset;
     x.stamp_a = scans[pr.a].stamp;
     x.stamp_b = scans[pr.b].stamp;
-    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-    if (s >= 0) {
-      const coral::ToleranceOffset& o = offsets[s];
-      delta = o.delta;
-      x.offset = o.name;
-      x.group = coral::isRotation(o.axis) ? kRotationGroup : kTranslationGroup;
-      x.label = 0;
-      x.dx = delta.translation().x();
-      x.dy = delta.translation().y();
-      x.dyaw = std::atan2(delta.linear()(1, 0), delta.linear()(0, 0));
-    }
+    const Eigen::Isometry3d& delta = spec.delta;
+    x.offset = spec.offset;
+    x.group = spec.group;
+    x.label = spec.label;
+    x.dx = delta.translation().x();  // 0 for the exact pose
+    x.dy = delta.translation().y();
+    x.dyaw = std::atan2(delta.linear()(1, 0), delta.linear()(0, 0));
     const std::array<double, 3> c = eval.at(delta);
     x.features = {{c[0], c[1]}, {eval.probeQ(delta)}};  // the relative check's Q: probe queries
     for (const coral::ToleranceOffset& o : offsets)
@@ -151,6 +179,7 @@ bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingS
   }
   const std::vector<coral::ToleranceOffset> offsets =
       coral::toleranceOffsets(cfg.tolerance, cfg.coral.dimension);
+  const std::vector<SampleSpec> specs = sampleSpecs(cfg, offsets);
   std::vector<std::vector<Sample>> per_pair(mine.size());
   std::vector<CoralCost> costs(mine.size());
   std::atomic<std::size_t> next{0};
@@ -158,7 +187,8 @@ bool buildVerdictSamples(const std::string& dataset, const std::vector<TrainingS
   std::mutex progress_mutex;
   auto worker = [&] {
     for (std::size_t k; (k = next++) < mine.size();) {
-      per_pair[k] = pairSamples(dataset, mine[k], scans, pairs[mine[k]], offsets, cfg, &costs[k]);
+      per_pair[k] =
+          pairSamples(dataset, mine[k], scans, pairs[mine[k]], offsets, specs, cfg, &costs[k]);
       std::lock_guard<std::mutex> lock(progress_mutex);
       if (progress) progress(++done, mine.size());
     }

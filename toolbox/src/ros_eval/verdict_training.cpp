@@ -89,6 +89,7 @@ int runVerdictTraining(const VerdictTrainingOptions& o, std::ostream& log) {
   scfg.coral = node.online.coral;
   scfg.tolerance = verdict.tolerance;
   scfg.probe_queries = verdict.relative.probe_queries;
+  scfg.aligned_spread = o.aligned_spread;
   scfg.threads = o.threads;
   scfg.shard_index = o.shard_index;
   scfg.shard_count = o.shard_count;

@@ -48,6 +48,8 @@ leave-one-out accuracy) and samples.csv.
                               ... --samples shards/samples_shard7of8.csv --output report
   --threads N             worker threads; 0 = every core                    [0]
   --relative_margin M     relative-check margin instead of the preset's
+  --aligned_spread F      also label aligned the poses F tolerances off along each axis
+                          (F in [0, 1); a registration stops short of the exact pose)  [0]
   --max_scans N  --folds K  --output DIR  --no_csv   as below
 
 Builds aligned scan pairs from accurate poses, induces misalignments in the sensor frame of
@@ -175,6 +177,7 @@ int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::
     if (opt.count("--max_scans")) v.max_scans = std::stoi(opt["--max_scans"]);
     if (opt.count("--folds")) v.folds = std::stoi(opt["--folds"]);
     if (opt.count("--relative_margin")) v.relative_margin = std::stod(opt["--relative_margin"]);
+    if (opt.count("--aligned_spread")) v.aligned_spread = std::stod(opt["--aligned_spread"]);
     if (opt.count("--scan_topic")) v.bag_scan_topic = opt["--scan_topic"];
     if (opt.count("--odom_topic")) v.bag_odom_topic = opt["--odom_topic"];
     if (opt.count("--fixed_frame")) v.bag_fixed_frame = opt["--fixed_frame"];
@@ -227,7 +230,8 @@ int main(int argc, char** argv) {
                                             "--samples",
                                             "--shard",
                                             "--threads",
-                                            "--relative_margin"};
+                                            "--relative_margin",
+                                            "--aligned_spread"};
   ToolArgs args;
   if (const auto exit = readCommandLine("coral_train", kUsage, argc, argv, options, flags, &args))
     return *exit;

@@ -1,6 +1,7 @@
 // Training / evaluation samples at the user's tolerance (tolerance.hpp): for every pair with
-// an accurate relative pose, the aligned sample and one misaligned sample per tolerance
-// offset (T_a_b * Delta, b's sensor frame; paper Sec. III-F), each with
+// an accurate relative pose, the aligned sample (optionally also aligned samples a share of
+// the tolerance off, `aligned_spread`) and one misaligned sample per tolerance offset
+// (T_a_b * Delta, b's sensor frame; paper Sec. III-F), each with
 //  - method "CorAl": H_joint, H_sep at the sample's pose (the classifier inputs, Eq. 9);
 //  - method "Relative": Q at the sample's pose and at each tolerance neighbour of it
 //    (the relative check's inputs, relative_check.hpp).
@@ -23,6 +24,10 @@ struct VerdictSampleConfig {
   coral::ToleranceConfig tolerance;  // size of the induced misalignments and of the probes
   int probe_queries = 0;             // queries per scan of the relative check's Q values
                                      // (RelativeCheckConfig::probe_queries; 0 = all)
+  double aligned_spread = 0.0;       // [tolerances] in [0, 1): also label aligned the poses this
+                                     // share of the tolerance off along each axis (a loop
+                                     // registration stops short of the exact pose); 0 = only
+                                     // the exact pose (paper Sec. III-F)
   int threads = 0;                   // worker threads; 0 = every core of the machine
   int shard_index = 0;               // this shard ...
   int shard_count = 1;               // ... of this many (1 = the whole data set)

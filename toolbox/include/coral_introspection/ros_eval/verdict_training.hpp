@@ -26,6 +26,7 @@ struct VerdictTrainingOptions {
   int max_scans = 0;            // per data set; 0 = all
   int folds = 5;                // in-data-set cross-validation
   double relative_margin = -1;  // < 0: the preset's
+  double aligned_spread = 0.0;  // eval::VerdictSampleConfig::aligned_spread [tolerances]
   std::string bag_scan_topic = "/scan", bag_odom_topic, bag_fixed_frame = "odom";
   bool write_csv = true;           // samples.csv beside the report
   std::string command;             // quoted in the report
