@@ -19,6 +19,8 @@ TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
       {base + "--prune 3 --pcm 2", "--pcm: probability"},
       {base + "--rows middle", "--rows must be all, even or odd"},
       {base + "--pcn 0.99", "--pcn"},  // a misspelt option is not ignored
+      {base + "--restarts=yes", "--restarts takes no value"},
+      {base + "--restart", "--restart"},
       {"--keyframes /nonexistent_keyframes", "--config and either --keyframes or --carmen"},
   };
   for (const auto& c : cases) {

@@ -13,11 +13,14 @@
 //      removed, worst first), its ATE and relation error (--out_dir: GATE_pruned.tum / .kitti);
 //   5. with --pcm PROBABILITY, per gate, the graph of the largest set of pairwise consistent
 //      loop edges (eval/pairwise_consistency.hpp: PCM's cycles through the odometry under a
-//      chi-square bound of that probability) (--out_dir: GATE_pcm.tum / .kitti).
+//      chi-square bound of that probability) (--out_dir: GATE_pcm.tum / .kitti);
+//   6. with --restarts, one more gate, `restarts`: the verdict, then a second registration of
+//      each candidate it accepts from starts around its pose (eval/restart_check.hpp: rejected
+//      when one ends at least 2 tolerances away, accepted by the verdict, with clearly lower Q).
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt (3D) | icp|point_to_line (2D)]
-//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
+//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY] [--restarts]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -42,6 +45,7 @@
 #include "coral_introspection/eval/loop_gates.hpp"
 #include "coral_introspection/eval/pairwise_consistency.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
+#include "coral_introspection/eval/restart_check.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
@@ -54,7 +58,7 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt (3D, default gicp) | "
     "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES "
-    "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
+    "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--restarts]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -79,6 +83,14 @@ struct Judged {
   bool has_refined = false;
   coral::AlignmentVerdict v_refined;
   Eigen::Isometry3d T_edge_refined = Eigen::Isometry3d::Identity();
+  // --restarts, for a candidate the loop verdict accepts: registered again from other starts.
+  eval::RestartResult restart;
+};
+
+// The second registration of --restarts (off: `registration` null).
+struct Restarts {
+  const eval::LoopCandidateConfig* registration = nullptr;
+  eval::RestartConfig config;
 };
 
 // One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, when
@@ -86,15 +98,22 @@ struct Judged {
 // the pose coral::refinePose reaches, as coral::judgeAlignment does for the loop verdict.
 Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const coral::Scan& b,
                       const online::IntrospectorConfig& judge_cfg,
-                      const coral::VerdictConfig& verdict) {
+                      const coral::VerdictConfig& verdict, const Restarts& restarts) {
   Judged j;
   j.c = c;
   const online::PairJudgement pj = online::judgePair(a, b, c.T_a_b, judge_cfg, false);
   j.v = pj.verdict;
+  const bool accepted = j.v.valid && eval::loopGateAccepts("verdict", c, j.v, verdict);
+  if (accepted && pj.prepared && restarts.registration)
+    j.restart = eval::betterAlignmentElsewhere(
+        *pj.prepared, a.points, b.points, c.T_a_b, j.v, judge_cfg.verdict, verdict.tolerance,
+        *restarts.registration,
+        [&](const coral::AlignmentVerdict& w) {
+          return eval::loopGateAccepts("verdict", c, w, verdict);
+        },
+        restarts.config);
   const double max_refinement = verdict.loop_closure.max_refinement;
-  if (max_refinement <= 0.0 || !pj.prepared || !j.v.valid ||
-      eval::loopGateAccepts("verdict", c, j.v, verdict))
-    return j;
+  if (max_refinement <= 0.0 || !pj.prepared || !j.v.valid || accepted) return j;
   const coral::PoseRefinement r = coral::refinePose(
       *pj.prepared, c.T_a_b, judge_cfg.coral.dimension, verdict.tolerance, max_refinement);
   if (!(r.size > 0.0)) return j;
@@ -116,7 +135,7 @@ int main(int argc, char** argv) {
   if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--keyframes", "--carmen", "--corrected", "--out",
                             "--out_dir", "--rows", "--registration", "--prune", "--pcm"},
-                           {}, &args, &err))
+                           {"--restarts"}, &args, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -162,6 +181,12 @@ int main(int argc, char** argv) {
   eval::LoopCandidateConfig cand_cfg = eval::evaluationCandidates(dim, verdict.tolerance);
   if (!registration.empty()) cand_cfg.registration = registration;  // else the dimension's
   if (const std::string e = cand_cfg.validate(); !e.empty()) return fail("--registration: " + e);
+  // --restarts: registered again by the better local optimiser of the dimension (2D:
+  // point-to-line ICP, 3D: the candidates' own).
+  eval::LoopCandidateConfig restart_registration = cand_cfg;
+  if (dim == 2) restart_registration.registration = "point_to_line";
+  Restarts restarts;
+  if (args.flag("--restarts")) restarts.registration = &restart_registration;
   if (!keyframes.empty()) {
     if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &set.scans,
                                     &set.ref, &err) ||
@@ -193,7 +218,7 @@ int main(int argc, char** argv) {
   // 2. One evaluation each.
   std::vector<Judged> judged;
   for (const eval::LoopCandidate& c : set.lookalikes) {
-    Judged j = judgeCandidate(c, scans[c.a].scan, scans[c.b].scan, judge_cfg, verdict);
+    Judged j = judgeCandidate(c, scans[c.a].scan, scans[c.b].scan, judge_cfg, verdict, restarts);
     j.in_graph = true;
     j.node_a = c.a;
     j.node_b = c.b;
@@ -204,7 +229,7 @@ int main(int argc, char** argv) {
   const eval::LogNodes nodes(set.log, set.raw);
   for (const eval::LoopCandidate& c : set.revisits) {
     const std::vector<eval::TrainingScan>& rs = set.rel_scans;
-    Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict);
+    Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict, restarts);
     // An edge between the nodes its scans hang off.
     j.in_graph = nodes.edge(rs[c.a].stamp, rs[c.b].stamp, c.T_a_b, kAttachLines, &j.node_a,
                             &j.node_b, &j.T_edge) &&
@@ -222,7 +247,8 @@ int main(int argc, char** argv) {
     out << "a,b,source,init_yaw,is_true,error_t,error_r,converged,fitness,valid,classifier_p,"
            "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
            "constraint,refinement,refined_accepted,refined_classifier_p,refined_relative_score,"
-           "refined_q,refined_overlap,refined_constraint,refined_free_space\n";
+           "refined_q,refined_overlap,refined_constraint,refined_free_space,restart_better,"
+           "restart_distance,restart_q\n";
     for (const Judged* j : table) {
       const eval::LoopCandidate& c = j->c;
       const coral::AlignmentVerdict& v = j->v;
@@ -238,7 +264,9 @@ int main(int argc, char** argv) {
           << ',';
       const coral::AlignmentVerdict& w = j->v_refined;  // zeros when not refined
       out << w.classifier.probability << ',' << w.relative.score << ',' << w.coral.quality << ','
-          << w.coral.overlap << ',' << w.constraint.weakest << ',' << w.free_space.conflict << "\n";
+          << w.coral.overlap << ',' << w.constraint.weakest << ',' << w.free_space.conflict << ',';
+      const eval::RestartResult& r = j->restart;  // zeros without --restarts
+      out << r.better_elsewhere << ',' << r.distance << ',' << r.q << "\n";
     }
   }
 
@@ -275,15 +303,21 @@ int main(int argc, char** argv) {
   };
   std::vector<Checked> pruned, pcm_checked;
   if (use_pcm) pcm.dimension = dim;
-  for (const std::string& gate : eval::loopGateNames()) {
+  std::vector<std::string> gates = eval::loopGateNames();
+  if (restarts.registration) gates.push_back("restarts");  // the verdict, then the restarts
+  for (const std::string& gate : gates) {
     int ta = 0, fa = 0;
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
     std::vector<bool> edge_true;  // per loop edge
     for (const Judged* j : table) {
       bool refined = false;
-      if (!eval::loopGateAccepts(gate, j->c, j->v, verdict,
-                                 j->has_refined ? &j->v_refined : nullptr, &refined))
-        continue;
+      const bool accepted =
+          gate == "restarts"
+              ? eval::loopGateAccepts("verdict", j->c, j->v, verdict) &&
+                    !j->restart.better_elsewhere
+              : eval::loopGateAccepts(gate, j->c, j->v, verdict,
+                                      j->has_refined ? &j->v_refined : nullptr, &refined);
+      if (!accepted) continue;
       (j->c.is_true ? ta : fa)++;
       if (!j->in_graph) continue;  // the rows' candidates between scans of the graph
       edges.push_back({j->node_a, j->node_b, refined ? j->T_edge_refined : j->T_edge,  // refined:
