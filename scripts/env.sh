@@ -43,7 +43,12 @@ coral_build() {
       catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests
     fi
   )
-  # setup.bash reads unset variables; relax -u while sourcing it.
+  coral_source_ws
+}
+
+# Sources the built workspace ${CORAL_WS}: setup.bash reads unset variables, so -u is relaxed
+# while it runs (and set again after).
+coral_source_ws() {
   set +u
   # shellcheck disable=SC1091
   source "${CORAL_WS}/devel/setup.bash"

@@ -11,10 +11,7 @@
 #   session_tmp="$(mktemp -d)"    # removed on exit
 # shellcheck source=env.sh disable=SC1091
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
-set +u
-# shellcheck disable=SC1091
-source "${CORAL_WS}/devel/setup.bash"
-set -u
+coral_source_ws
 
 session_pids=()
 session_tmp=""

@@ -12,12 +12,8 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 source scripts/env.sh
-set +u
-# shellcheck disable=SC1091
-source "${CORAL_WS}/devel/setup.bash"
-set -u
-DATA=../shared/data
-[ -n "${CORAL_DATA_DIR:-}" ] && DATA="${CORAL_DATA_DIR}"
+coral_source_ws
+DATA="${CORAL_DATA_DIR:-../shared/data}"
 SPREAD="${SPREAD:-0.2}"
 MIN_P="${MIN_P:-0.1}"
 OUT="$(mktemp -d /tmp/coral_spread.XXXXXX)"

@@ -10,10 +10,7 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/../.."
 source scripts/env.sh
-set +u
-# shellcheck disable=SC1091
-source "${CORAL_WS}/devel/setup.bash"
-set -u
+coral_source_ws
 DATA=../shared/data  # as quoted in the reports; CORAL_DATA_DIR overrides
 [ -n "${CORAL_DATA_DIR:-}" ] && DATA="${CORAL_DATA_DIR}"
 OUT=doc/verdict_report

@@ -47,14 +47,29 @@ VerdictSampleConfig planarConfig() {
   return c;
 }
 
+// The yard sequence of the layout tests: 9 scans (seed 3), their consecutive pairs, and the
+// planar config on one thread.
+struct YardSequence {
+  std::vector<TrainingScan> scans;
+  std::vector<ScanPair> pairs;
+  VerdictSampleConfig cfg;
+};
+
+YardSequence yardSequence() {
+  YardSequence y;
+  planarSequence(9, 3, &y.scans, &y.pairs);
+  y.cfg = planarConfig();
+  y.cfg.threads = 1;
+  return y;
+}
+
 }  // namespace
 
 TEST(VerdictSamples, LayoutOrderingThreadsAndShards) {
-  std::vector<TrainingScan> scans;
-  std::vector<ScanPair> pairs;
-  planarSequence(9, 3, &scans, &pairs);
-  VerdictSampleConfig cfg = planarConfig();
-  cfg.threads = 1;
+  const YardSequence y = yardSequence();
+  const std::vector<TrainingScan>& scans = y.scans;
+  const std::vector<ScanPair>& pairs = y.pairs;
+  VerdictSampleConfig cfg = y.cfg;
   SampleSet one;
   std::string err;
   ASSERT_TRUE(buildVerdictSamples("yard", scans, pairs, cfg, nullptr, &one, &err)) << err;
@@ -115,11 +130,10 @@ TEST(VerdictSamples, LayoutOrderingThreadsAndShards) {
 // aligned_spread: aligned samples a share of the tolerance off, between the exact pose and
 // the misaligned offsets, at the scaled offsets, and with Q between the two on average.
 TEST(VerdictSamples, AlignedSpreadAddsLabelledAlignedPosesInsideTheTolerance) {
-  std::vector<TrainingScan> scans;
-  std::vector<ScanPair> pairs;
-  planarSequence(9, 3, &scans, &pairs);
-  VerdictSampleConfig cfg = planarConfig();
-  cfg.threads = 1;
+  const YardSequence y = yardSequence();
+  const std::vector<TrainingScan>& scans = y.scans;
+  const std::vector<ScanPair>& pairs = y.pairs;
+  VerdictSampleConfig cfg = y.cfg;
   SampleSet exact, spread;
   std::string err;
   ASSERT_TRUE(buildVerdictSamples("yard", scans, pairs, cfg, nullptr, &exact, &err)) << err;
