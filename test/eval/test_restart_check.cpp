@@ -28,7 +28,7 @@ struct YardCheck {
     const coral::AlignmentVerdict v = coral::judgeAlignment(*pair, T, judge);
     EXPECT_TRUE(v.valid);
     return eval::betterAlignmentElsewhere(
-        *pair, p.a.points, p.b.points, T, v, judge, tol, reg,
+        *pair, p.a.points, p.b.points, T, v, judge, reg,
         [](const coral::AlignmentVerdict& w) { return !w.relative.misaligned; }, cfg);
   }
 };

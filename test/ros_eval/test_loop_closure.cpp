@@ -301,8 +301,7 @@ TEST(LoopClosure, Lidar2dOnTheAcesLoops) {
     const online::PairJudgement pj = online::judgePair(a, b, c.T_a_b, loop, false);
     ASSERT_TRUE(pj.prepared && pj.verdict.valid && pj.verdict.aligned);
     const eval::RestartResult r = eval::betterAlignmentElsewhere(
-        *pj.prepared, a.points, b.points, c.T_a_b, pj.verdict, loop.verdict,
-        node.online.verdict.tolerance, reg,
+        *pj.prepared, a.points, b.points, c.T_a_b, pj.verdict, loop.verdict, reg,
         [](const coral::AlignmentVerdict& w) { return w.valid && w.aligned; },
         eval::RestartConfig());
     (r.better_elsewhere ? rejected : kept)[c.is_true]++;

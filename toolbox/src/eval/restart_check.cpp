@@ -22,9 +22,9 @@ std::string RestartConfig::validate() const {
 RestartResult betterAlignmentElsewhere(
     const coral::CoralPair& pair, const coral::Points& a, const coral::Points& b,
     const Eigen::Isometry3d& T_a_b, const coral::AlignmentVerdict& v,
-    const coral::VerdictConfig& judge, const coral::ToleranceConfig& tolerance,
-    const LoopCandidateConfig& registration,
+    const coral::VerdictConfig& judge, const LoopCandidateConfig& registration,
     const std::function<bool(const coral::AlignmentVerdict&)>& accepts, const RestartConfig& cfg) {
+  const coral::ToleranceConfig& tolerance = judge.tolerance;
   RestartResult out;
   out.q_candidate = v.coral.quality;
   if (!v.valid) return out;

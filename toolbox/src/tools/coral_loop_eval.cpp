@@ -87,31 +87,25 @@ struct Judged {
   eval::RestartResult restart;
 };
 
-// The second registration of --restarts (off: `registration` null).
-struct Restarts {
-  const eval::LoopCandidateConfig* registration = nullptr;
-  eval::RestartConfig config;
-};
-
 // One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, when
 // the loop verdict rejects it there and the preset's loop gate refines, the evaluation at
 // the pose coral::refinePose reaches, as coral::judgeAlignment does for the loop verdict.
 Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const coral::Scan& b,
                       const online::IntrospectorConfig& judge_cfg,
-                      const coral::VerdictConfig& verdict, const Restarts& restarts) {
+                      const coral::VerdictConfig& verdict,
+                      const eval::LoopCandidateConfig* restart_registration) {
   Judged j;
   j.c = c;
   const online::PairJudgement pj = online::judgePair(a, b, c.T_a_b, judge_cfg, false);
   j.v = pj.verdict;
   const bool accepted = j.v.valid && eval::loopGateAccepts("verdict", c, j.v, verdict);
-  if (accepted && pj.prepared && restarts.registration)
+  if (accepted && pj.prepared && restart_registration)  // --restarts
     j.restart = eval::betterAlignmentElsewhere(
-        *pj.prepared, a.points, b.points, c.T_a_b, j.v, judge_cfg.verdict, verdict.tolerance,
-        *restarts.registration,
+        *pj.prepared, a.points, b.points, c.T_a_b, j.v, judge_cfg.verdict, *restart_registration,
         [&](const coral::AlignmentVerdict& w) {
           return eval::loopGateAccepts("verdict", c, w, verdict);
         },
-        restarts.config);
+        eval::RestartConfig());
   const double max_refinement = verdict.loop_closure.max_refinement;
   if (max_refinement <= 0.0 || !pj.prepared || !j.v.valid || accepted) return j;
   const coral::PoseRefinement r = coral::refinePose(
@@ -185,8 +179,8 @@ int main(int argc, char** argv) {
   // point-to-line ICP, 3D: the candidates' own).
   eval::LoopCandidateConfig restart_registration = cand_cfg;
   if (dim == 2) restart_registration.registration = "point_to_line";
-  Restarts restarts;
-  if (args.flag("--restarts")) restarts.registration = &restart_registration;
+  const eval::LoopCandidateConfig* restarts =
+      args.flag("--restarts") ? &restart_registration : nullptr;  // null: off
   if (!keyframes.empty()) {
     if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &set.scans,
                                     &set.ref, &err) ||
@@ -304,7 +298,7 @@ int main(int argc, char** argv) {
   std::vector<Checked> pruned, pcm_checked;
   if (use_pcm) pcm.dimension = dim;
   std::vector<std::string> gates = eval::loopGateNames();
-  if (restarts.registration) gates.push_back("restarts");  // the verdict, then the restarts
+  if (restarts) gates.push_back("restarts");  // the verdict, then the restarts
   for (const std::string& gate : gates) {
     int ta = 0, fa = 0;
     std::vector<eval::PoseGraphEdge> edges = odom_edges;

@@ -43,15 +43,14 @@ struct RestartResult {
 };
 
 // For the candidate T_a_b of scans a and b (their sensor frames) whose verdict (judged on
-// `pair`, with `judge` = the loop verdict's configuration, method kBoth) is v: registers b
+// `pair` with `judge`, whose tolerance sizes the starts and the distances) is v: registers b
 // onto a from every start with `registration` (eval::registerPair) and judges each result on
 // `pair`; `accepts` decides whether the loop verdict accepts a judged pose (as the candidate's
 // was). Preconditions: cfg.validate() and registration.validate() are empty.
 RestartResult betterAlignmentElsewhere(
     const coral::CoralPair& pair, const coral::Points& a, const coral::Points& b,
     const Eigen::Isometry3d& T_a_b, const coral::AlignmentVerdict& v,
-    const coral::VerdictConfig& judge, const coral::ToleranceConfig& tolerance,
-    const LoopCandidateConfig& registration,
+    const coral::VerdictConfig& judge, const LoopCandidateConfig& registration,
     const std::function<bool(const coral::AlignmentVerdict&)>& accepts, const RestartConfig& cfg);
 
 }  // namespace eval
