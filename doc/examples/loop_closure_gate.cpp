@@ -49,9 +49,9 @@ class LoopClosureBackEnd {
       return true;
     }
     // Judged and misaligned: rejected_by names the term that said so. With correction_hint
-    // "refined" (loop_closure/max_refinement) the pose transform_a_b * correction passes:
-    // register again from there with your matcher and ask again, rather than adding it as is. No
-    // verdict (refused request, too little overlap, ...): reason / error say why.
+    // "refined" (loop_closure/max_refinement or restarts) the pose transform_a_b * correction
+    // passes: register again from there with your matcher and ask again, rather than adding it
+    // as is. No verdict (refused request, too little overlap, ...): reason / error say why.
     if (r.valid) return reject(r.rejected_by);
     return reject(r.reason.empty() ? srv.response.error : r.reason);
   }

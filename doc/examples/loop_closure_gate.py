@@ -51,8 +51,9 @@ class LoopClosureBackEnd:
             self.edges.append((cloud_a.header.frame_id, cloud_b.header.frame_id, T_a_b))
             return True
         # Judged and misaligned: rejected_by names the term that said so. With correction_hint
-        # "refined" (loop_closure/max_refinement) the pose transform_a_b * correction passes:
-        # register again from there with your matcher and ask again, rather than adding it as is.
+        # "refined" (loop_closure/max_refinement or restarts) the pose transform_a_b * correction
+        # passes: register again from there with your matcher and ask again, rather than adding it
+        # as is.
         if r.valid:
             return self._reject(r.rejected_by)
         # No verdict (refused request, too little overlap, ...): reason / error say why.

@@ -50,19 +50,7 @@ std::vector<Shared> sharedPoints(const NeighbourGrid& grid, const Points& own, i
     const Vec3 mean = sum / n_own;
     const Eigen::Matrix3d cov = sq / n_own - mean * mean.transpose();
     Shared s{q, Vec3::Zero(), 0.0};
-    if (dim == 2) {
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov.topLeftCorner<2, 2>());
-      const Eigen::Vector2d ev = es.eigenvalues();
-      if (!(ev(1) > 0.0)) continue;
-      s.n.head<2>() = es.eigenvectors().col(0);
-      s.w = 1.0 - std::max(0.0, ev(0)) / ev(1);
-    } else {
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
-      const Eigen::Vector3d ev = es.eigenvalues();
-      if (!(ev(1) > 0.0)) continue;
-      s.n = es.eigenvectors().col(0);
-      s.w = 1.0 - std::max(0.0, ev(0)) / ev(1);
-    }
+    if (!surfaceNormal(cov, dim, &s.n, &s.w)) continue;
     out.push_back(s);
   }
   return out;
@@ -93,6 +81,24 @@ double weakestDirection(const std::vector<Shared>& pts, int dim, double k) {
 }
 
 }  // namespace
+
+bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight) {
+  *normal = Vec3::Zero();
+  if (dimension == 2) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov.topLeftCorner<2, 2>());
+    const Eigen::Vector2d ev = es.eigenvalues();
+    if (!(ev(1) > 0.0)) return false;
+    normal->head<2>() = es.eigenvectors().col(0);
+    *weight = 1.0 - std::max(0.0, ev(0)) / ev(1);
+    return true;
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  const Eigen::Vector3d ev = es.eigenvalues();
+  if (!(ev(1) > 0.0)) return false;
+  *normal = es.eigenvectors().col(0);
+  *weight = 1.0 - std::max(0.0, ev(0)) / ev(1);
+  return true;
+}
 
 ConstraintResult registrationConstraint(const Points& a, const Points& b,
                                         const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,

@@ -57,6 +57,7 @@ std::string VerdictConfig::validate() const {
       .nested("gate", gate.validate())
       .nested("loop_closure", loop_closure.validate())
       .nested("free_space", free_space.validate())
+      .nested("restart", restart.validate())
       .str();
 }
 
@@ -203,9 +204,53 @@ bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg) {
 }
 }  // namespace
 
+namespace {
+// Gate `restarts` on verdict v, accepted at T_a_b: registered again from other starts
+// (restart_check.hpp); a better alignment elsewhere rejects v and is offered when the
+// classifier says aligned there too (refinedPoseAccepted), as a refined pose is.
+void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
+                   AlignmentVerdict* v) {
+  AlignmentVerdict best;
+  v->restart = betterAlignmentElsewhere(
+      pair, T_a_b, {true, v->coral.quality, v->coral.overlap}, cfg.tolerance, cfg.restart,
+      [&](const Eigen::Isometry3d& T) {
+        AlignmentVerdict w = judgeAtPose(pair, T, cfg);
+        const JudgedPose j{w.valid && w.aligned, w.coral.quality, w.coral.overlap};
+        // Pose-by-pose order of betterAlignmentElsewhere: each accepted pose of lower Q
+        // replaces the previous best.
+        if (j.accepted && w.coral.quality < (best.valid ? best.coral.quality : 1e300))
+          best = std::move(w);
+        return j;
+      });
+  const RestartResult& r = v->restart;
+  if (!r.better_elsewhere) return;
+  v->aligned = false;
+  // The local terms still say aligned; at most 0.5 so that the probability does not read
+  // as a confident "aligned" for a rejected candidate.
+  v->probability = std::min(v->probability, 0.5);
+  v->refinement.valid = true;
+  v->refinement.delta = T_a_b.inverse() * r.T_a_b;
+  v->refinement.size = r.distance;
+  v->refinement.q_start = r.q_candidate;
+  v->refinement.q_end = r.q;
+  v->refined = refinedPoseAccepted(best);
+  v->rejected_by = "restarts: registered again from " + std::to_string(r.starts) +
+                   " starts, a pose " + number(r.distance) + " tolerances away passes with Q " +
+                   number(r.q) + " < " + number(r.q_candidate) +
+                   " (the registration stopped off the revisit); " +
+                   (v->refined ? "offered (transform_a_b * correction)"
+                               : "not offered: classifier p " +
+                                     number(best.classifier.probability) + " below its threshold");
+}
+}  // namespace
+
 AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                 const VerdictConfig& cfg) {
   AlignmentVerdict v = judgeAtPose(pair, T_a_b, cfg);
+  if (cfg.method == VerdictMethod::kGated && cfg.gate.restarts && v.valid && v.aligned) {
+    checkRestarts(pair, T_a_b, cfg, &v);
+    return v;
+  }
   if (!refinementApplies(v, cfg)) return v;
   v.refinement =
       refinePose(pair, T_a_b, pair.config().dimension, cfg.tolerance, cfg.gate.max_refinement);

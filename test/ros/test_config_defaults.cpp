@@ -179,6 +179,7 @@ std::string describe(const NodeConfig& c) {
     << "\nloop_closure.max_free_space = " << c.online.verdict.loop_closure.max_free_space
     << "\nloop_closure.min_constraint = " << c.online.verdict.loop_closure.min_constraint
     << "\nloop_closure.max_refinement = " << c.online.verdict.loop_closure.max_refinement
+    << "\nloop_closure.restarts = " << c.online.verdict.loop_closure.restarts
     << "\nfree_space.bin_deg = " << c.online.verdict.free_space.bin_deg
     << "\nfree_space.margin = " << c.online.verdict.free_space.margin
     << "\nfree_space.min_tested = " << c.online.verdict.free_space.min_tested

@@ -40,6 +40,12 @@ struct ConstraintResult {
 // is about the centroid of the shared points. dimension 2: x, y, yaw (3 x 3); 3: 6 x 6. At
 // most kMaxQueries points per scan are used (a deterministic stride): bounded work on dense
 // 3D clouds. Never throws; non-finite points are skipped.
+// The least direction of a neighbourhood's covariance (its surface normal: a line's in 2D,
+// dimension 2 reads the x-y block, a plane's in 3D) and how line- or plane-like it is,
+// weight = 1 - lambda_min / lambda_mid in [0, 1]. False when the neighbourhood is not even a
+// line (lambda_mid <= 0). Also the normals of the restart check's registration.
+bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight);
+
 ConstraintResult registrationConstraint(const Points& a, const Points& b,
                                         const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,
                                         const ToleranceConfig& tolerance);

@@ -15,6 +15,7 @@
 #include "coral_introspection/coral/free_space.hpp"
 #include "coral_introspection/coral/refinement.hpp"
 #include "coral_introspection/coral/relative_check.hpp"
+#include "coral_introspection/coral/restart_check.hpp"
 #include "coral_introspection/coral/tolerance.hpp"
 
 namespace coral_introspection {
@@ -62,6 +63,12 @@ struct GateConfig {
   // registration that stopped a fraction of the tolerance from a true revisit is rejected at
   // its pose (Q is lower one tolerance on) but right once refined. In [0, 1]. 0 = off.
   double max_refinement = 0.0;
+  // Loop closures only: a candidate accepted at its pose is registered again from starts
+  // around it (restart_check.hpp, VerdictConfig::restart) and rejected when a pose at least
+  // restart.min_distance tolerances away passes this verdict with a clearly lower Q: the
+  // registration stopped off the revisit along repeated structure. That pose is offered as
+  // a refined one (AlignmentVerdict::refined) when the classifier also says aligned there.
+  bool restarts = false;
   std::string validate() const;  // empty when valid
 };
 
@@ -77,6 +84,7 @@ struct VerdictConfig {
   // time), false ones are local optima of registration (doc/loop_closure.md).
   GateConfig loop_closure;
   FreeSpaceConfig free_space;  // the check behind max_free_space (either gate)
+  RestartConfig restart;       // the check behind the loop gate's `restarts`
   // Measure the free-space and constraint terms even when `gate` does not use them
   // (evaluation: every term of every pair, coral_loop_eval); never changes a verdict.
   bool measure_gate_terms = false;
@@ -108,6 +116,9 @@ struct AlignmentVerdict {
   // instead of the given one.
   PoseRefinement refinement;
   bool refined = false;
+  // Gate `restarts` and accepted at the given pose: the second registration. When it found a
+  // better alignment, the verdict is "misaligned" and refinement.delta leads to that pose.
+  RestartResult restart;
 };
 
 // A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *

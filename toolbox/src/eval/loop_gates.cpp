@@ -29,6 +29,8 @@ coral::AlignmentVerdict decide(const std::string& gate, const coral::AlignmentVe
     v.relative.misaligned = coral::exceedsMargin(v.relative, loop.relative);
     coral::combineVerdict(loop.method, v.classifier, v.relative, loop.relative, &v, loop.gate,
                           coral::gateTerms(v));
+    // The loop gate's restart check (coral_loop_eval runs it when the preset turns it on).
+    if (v.aligned && v_both.restart.better_elsewhere) v.aligned = false;
   } else if (gate == "relative") {
     coral::combineVerdict(coral::VerdictMethod::kRelative, v.classifier, v.relative, cfg.relative,
                           &v);

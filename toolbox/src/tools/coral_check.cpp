@@ -208,8 +208,9 @@ int main(int argc, char** argv) {
   char cs[32] = "null";  // likewise the constraint term
   if (out.verdict.constraint.valid)
     std::snprintf(cs, sizeof cs, "%.6f", out.verdict.constraint.weakest);
-  // A loop closure rejected at its pose whose refined pose passes (loop_closure/
-  // max_refinement): that pose, 3x4 row-major as --transform_file reads it; null otherwise.
+  // A loop closure rejected at its pose whose refined pose passes (loop_closure/max_refinement,
+  // or the better alignment loop_closure/restarts found): that pose, 3x4 row-major as
+  // --transform_file reads it; null otherwise.
   std::string refined = "null";
   if (out.verdict.refined) {
     const Eigen::Isometry3d T = T_a_b * out.verdict.refinement.delta;

@@ -14,13 +14,13 @@
 //   5. with --pcm PROBABILITY, per gate, the graph of the largest set of pairwise consistent
 //      loop edges (eval/pairwise_consistency.hpp: PCM's cycles through the odometry under a
 //      chi-square bound of that probability) (--out_dir: GATE_pcm.tum / .kitti);
-//   6. with --restarts, one more gate, `restarts`: the verdict, then a second registration of
-//      each candidate it accepts from starts around its pose (eval/restart_check.hpp: rejected
-//      when one ends at least 2 tolerances away, accepted by the verdict, with clearly lower Q).
+// The verdict gates include the loop gate's restart check when the preset turns it on
+// (loop_closure/restarts, coral/restart_check.hpp), as coral_check --loop_closure does; a
+// better alignment it finds is the candidate's refined pose (gate `refined`).
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt (3D) | icp|point_to_line (2D)]
-//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY] [--restarts]
+//       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -45,7 +45,6 @@
 #include "coral_introspection/eval/loop_gates.hpp"
 #include "coral_introspection/eval/pairwise_consistency.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
-#include "coral_introspection/eval/restart_check.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
@@ -58,7 +57,7 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt (3D, default gicp) | "
     "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES "
-    "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--restarts]";
+    "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -78,34 +77,43 @@ struct Judged {
   bool in_graph = false;       // an edge of the graph: between graph nodes, or attached to them
   int node_a = 0, node_b = 0;  // its graph nodes
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // node_b in node_a's frame
-  // The loop verdict rejected at the pose and the gate refines (loop_closure/max_refinement):
-  // the evaluation at the refined pose (method kBoth) and the edge through that pose.
+  // The loop verdict rejected at the pose and the gate refines (loop_closure/max_refinement),
+  // or accepted there and the restart check found a better alignment (loop_closure/restarts,
+  // in v.restart): the evaluation at that pose (method kBoth) and the edge through it.
   bool has_refined = false;
   coral::AlignmentVerdict v_refined;
   Eigen::Isometry3d T_edge_refined = Eigen::Isometry3d::Identity();
-  // --restarts, for a candidate the loop verdict accepts: registered again from other starts.
-  eval::RestartResult restart;
 };
 
 // One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, when
 // the loop verdict rejects it there and the preset's loop gate refines, the evaluation at
-// the pose coral::refinePose reaches, as coral::judgeAlignment does for the loop verdict.
+// the pose coral::refinePose reaches; when the verdict accepts it and the loop gate restarts,
+// the restart check (in j.v.restart) and the evaluation at the better alignment it found: as
+// coral::judgeAlignment does for the loop verdict.
 Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const coral::Scan& b,
                       const online::IntrospectorConfig& judge_cfg,
-                      const coral::VerdictConfig& verdict,
-                      const eval::LoopCandidateConfig* restart_registration) {
+                      const coral::VerdictConfig& verdict) {
   Judged j;
   j.c = c;
   const online::PairJudgement pj = online::judgePair(a, b, c.T_a_b, judge_cfg, false);
   j.v = pj.verdict;
   const bool accepted = j.v.valid && eval::loopGateAccepts("verdict", c, j.v, verdict);
-  if (accepted && pj.prepared && restart_registration)  // --restarts
-    j.restart = eval::betterAlignmentElsewhere(
-        *pj.prepared, a.points, b.points, c.T_a_b, j.v, judge_cfg.verdict, *restart_registration,
-        [&](const coral::AlignmentVerdict& w) {
-          return eval::loopGateAccepts("verdict", c, w, verdict);
-        },
-        eval::RestartConfig());
+  if (accepted && pj.prepared && verdict.loop_closure.restarts) {
+    j.v.restart = coral::betterAlignmentElsewhere(
+        *pj.prepared, c.T_a_b, {true, j.v.coral.quality, j.v.coral.overlap}, verdict.tolerance,
+        verdict.restart, [&](const Eigen::Isometry3d& T) {
+          const coral::AlignmentVerdict w =
+              coral::judgeAlignment(*pj.prepared, T, judge_cfg.verdict);
+          return coral::JudgedPose{eval::loopGateAccepts("verdict", c, w, verdict), w.coral.quality,
+                                   w.coral.overlap};
+        });
+    if (!j.v.restart.better_elsewhere) return j;
+    j.has_refined = true;
+    j.v_refined = coral::judgeAlignment(*pj.prepared, j.v.restart.T_a_b, judge_cfg.verdict);
+    j.v_refined.refinement.delta = c.T_a_b.inverse() * j.v.restart.T_a_b;
+    j.v_refined.refinement.size = j.v.restart.distance;
+    return j;
+  }
   const double max_refinement = verdict.loop_closure.max_refinement;
   if (max_refinement <= 0.0 || !pj.prepared || !j.v.valid || accepted) return j;
   const coral::PoseRefinement r = coral::refinePose(
@@ -129,7 +137,7 @@ int main(int argc, char** argv) {
   if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--keyframes", "--carmen", "--corrected", "--out",
                             "--out_dir", "--rows", "--registration", "--prune", "--pcm"},
-                           {"--restarts"}, &args, &err))
+                           {}, &args, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -175,12 +183,6 @@ int main(int argc, char** argv) {
   eval::LoopCandidateConfig cand_cfg = eval::evaluationCandidates(dim, verdict.tolerance);
   if (!registration.empty()) cand_cfg.registration = registration;  // else the dimension's
   if (const std::string e = cand_cfg.validate(); !e.empty()) return fail("--registration: " + e);
-  // --restarts: registered again by the better local optimiser of the dimension (2D:
-  // point-to-line ICP, 3D: the candidates' own).
-  eval::LoopCandidateConfig restart_registration = cand_cfg;
-  if (dim == 2) restart_registration.registration = "point_to_line";
-  const eval::LoopCandidateConfig* restarts =
-      args.flag("--restarts") ? &restart_registration : nullptr;  // null: off
   if (!keyframes.empty()) {
     if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &set.scans,
                                     &set.ref, &err) ||
@@ -212,7 +214,7 @@ int main(int argc, char** argv) {
   // 2. One evaluation each.
   std::vector<Judged> judged;
   for (const eval::LoopCandidate& c : set.lookalikes) {
-    Judged j = judgeCandidate(c, scans[c.a].scan, scans[c.b].scan, judge_cfg, verdict, restarts);
+    Judged j = judgeCandidate(c, scans[c.a].scan, scans[c.b].scan, judge_cfg, verdict);
     j.in_graph = true;
     j.node_a = c.a;
     j.node_b = c.b;
@@ -223,7 +225,7 @@ int main(int argc, char** argv) {
   const eval::LogNodes nodes(set.log, set.raw);
   for (const eval::LoopCandidate& c : set.revisits) {
     const std::vector<eval::TrainingScan>& rs = set.rel_scans;
-    Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict, restarts);
+    Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict);
     // An edge between the nodes its scans hang off.
     j.in_graph = nodes.edge(rs[c.a].stamp, rs[c.b].stamp, c.T_a_b, kAttachLines, &j.node_a,
                             &j.node_b, &j.T_edge) &&
@@ -259,7 +261,7 @@ int main(int argc, char** argv) {
       const coral::AlignmentVerdict& w = j->v_refined;  // zeros when not refined
       out << w.classifier.probability << ',' << w.relative.score << ',' << w.coral.quality << ','
           << w.coral.overlap << ',' << w.constraint.weakest << ',' << w.free_space.conflict << ',';
-      const eval::RestartResult& r = j->restart;  // zeros without --restarts
+      const coral::RestartResult& r = j->v.restart;  // zeros when not run
       out << r.better_elsewhere << ',' << r.distance << ',' << r.q << "\n";
     }
   }
@@ -298,19 +300,14 @@ int main(int argc, char** argv) {
   std::vector<Checked> pruned, pcm_checked;
   if (use_pcm) pcm.dimension = dim;
   std::vector<std::string> gates = eval::loopGateNames();
-  if (restarts) gates.push_back("restarts");  // the verdict, then the restarts
   for (const std::string& gate : gates) {
     int ta = 0, fa = 0;
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
     std::vector<bool> edge_true;  // per loop edge
     for (const Judged* j : table) {
       bool refined = false;
-      const bool accepted =
-          gate == "restarts"
-              ? eval::loopGateAccepts("verdict", j->c, j->v, verdict) &&
-                    !j->restart.better_elsewhere
-              : eval::loopGateAccepts(gate, j->c, j->v, verdict,
-                                      j->has_refined ? &j->v_refined : nullptr, &refined);
+      const bool accepted = eval::loopGateAccepts(
+          gate, j->c, j->v, verdict, j->has_refined ? &j->v_refined : nullptr, &refined);
       if (!accepted) continue;
       (j->c.is_true ? ta : fa)++;
       if (!j->in_graph) continue;  // the rows' candidates between scans of the graph

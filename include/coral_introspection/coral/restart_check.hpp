@@ -1,0 +1,71 @@
+// A second registration from several starts, for a loop candidate the verdict accepts at its
+// pose (the loop gate's `restarts`, verdict.hpp; doc/loop_closure.md). The back end's ICP
+// converged at the candidate's pose, a local optimum. Registered again from starts around it,
+// a right candidate comes back to it or ends at worse poses, while one registered a metre off
+// along repeated structure (Intel's cubicle rows, ACES's corridors) finds the revisit's true
+// pose, which the loop verdict accepts and which fits clearly better (lower Q, Eq. 5). CorAl's
+// Q alone cannot find that pose: its minimum at a true pose is a few centimetres wide,
+// narrower than any probe step that keeps a search affordable, while a registration converges
+// into it. ROS-free, no exceptions.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/coral/coral_pair.hpp"
+#include "coral_introspection/coral/registration.hpp"
+#include "coral_introspection/coral/tolerance.hpp"
+
+namespace coral_introspection {
+namespace coral {
+
+struct RestartConfig {
+  // Starts: the candidate's pose moved in b's x-y plane by each radius [tolerances, i.e.
+  // multiples of tolerance/translation] in `directions` evenly spaced directions.
+  std::vector<double> radii = {2.5, 4.0};
+  int directions = 8;
+  // A better alignment elsewhere: a registration result at least min_distance tolerances
+  // (toleranceSize) from the candidate's pose that the loop verdict accepts, whose Q is
+  // below the candidate's by at least (1 - max_q_ratio) |Q|, and whose overlap is at least
+  // min_overlap_ratio of the candidate's. Without the last condition, a pose that fits only
+  // part of the scans (one wall of a corridor) has a lower Q than the true pose of a revisit:
+  // Q is a mean over the overlapping points.
+  double min_distance = 2.0;
+  double max_q_ratio = 0.8;
+  double min_overlap_ratio = 0.9;
+  RegistrationConfig registration;
+  std::string validate() const;  // empty when valid
+};
+
+struct RestartResult {
+  bool run = false;               // the check ran (a valid candidate the loop verdict accepted)
+  bool better_elsewhere = false;  // a better alignment was found: the candidate is rejected
+  Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  // the best one found, if any
+  double distance = 0.0;     // its distance from the candidate's pose [tolerances]
+  double q = 0.0;            // its Q [nats]
+  double q_candidate = 0.0;  // the candidate's Q [nats]
+  double overlap = 0.0, overlap_candidate = 0.0;  // the same for the overlap [-]
+  int starts = 0, usable = 0;  // registrations run and usable (RegistrationResult::usable)
+};
+
+// The loop verdict at one pose, as the check needs it.
+struct JudgedPose {
+  bool accepted = false;  // the loop verdict accepts the pose
+  double quality = 0.0;   // Q there (Eq. 5) [nats]
+  double overlap = 0.0;   // CorAl's overlap fraction there [-]
+};
+using PoseJudge = std::function<JudgedPose(const Eigen::Isometry3d& T_a_b)>;
+
+// For the candidate T_a_b of the prepared pair (a in its frame, b in its own), judged
+// `candidate` at its pose: registers pair.points(1) onto pair.points(0) from every start
+// (SurfaceTarget, cfg.registration) and judges each usable result at least
+// cfg.min_distance tolerances away with `judge`. Preconditions: cfg.validate() and
+// tolerance.validate() are empty. Never throws.
+RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                       const JudgedPose& candidate,
+                                       const ToleranceConfig& tolerance, const RestartConfig& cfg,
+                                       const PoseJudge& judge);
+
+}  // namespace coral
+}  // namespace coral_introspection

@@ -1,0 +1,160 @@
+#include "coral_introspection/coral/registration.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "coral_introspection/coral/constraint.hpp"
+#include "coral_introspection/coral/neighbour_grid.hpp"
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace coral {
+
+std::string RegistrationConfig::validate() const {
+  return Problems()
+      .require(std::isfinite(max_correspondence) && max_correspondence > 0.0, "max_correspondence",
+               "> 0 m", max_correspondence)
+      .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
+      .require(std::isfinite(min_step) && min_step > 0.0, "min_step", "> 0", min_step)
+      .require(min_correspondences >= 3, "min_correspondences", ">= 3", min_correspondences)
+      .require(std::isfinite(robust_scale) && robust_scale >= 0.0, "robust_scale",
+               ">= 0 m (0 = least squares)", robust_scale)
+      .str();
+}
+
+struct SurfaceTarget::Impl {
+  int dimension = 3;
+  RegistrationConfig cfg;
+  Points points, normals;
+  // The nearest target point is searched within `near` first (one cell ring of this grid),
+  // then within max_correspondence: most correspondences are close, and the wide search
+  // visits many cells of a dense cloud.
+  double near = 0.0;
+  std::unique_ptr<NeighbourGrid> grid;
+
+  // Index of the nearest target point to q within max_correspondence, -1 when none.
+  int nearest(const Vec3& q) const {
+    for (double radius : {near, cfg.max_correspondence}) {
+      int best = -1;
+      double best_d2 = std::numeric_limits<double>::infinity();
+      grid->forEachWithin(q, radius, [&](const Vec3& p, uint32_t index) {
+        const Vec3 d = p - q;
+        const double d2 = dimension == 2 ? d.head<2>().squaredNorm() : d.squaredNorm();
+        if (d2 < best_d2) {
+          best_d2 = d2;
+          best = static_cast<int>(index);
+        }
+      });
+      if (best >= 0 || radius >= cfg.max_correspondence) return best;
+    }
+    return -1;
+  }
+};
+
+SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
+                             const RegistrationConfig& cfg)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.dimension = coral.dimension;
+  m.cfg = cfg;
+  Points finite;
+  for (const Vec3& p : a)
+    if (p.allFinite()) finite.push_back(p);
+  const double r = coral.maxRadius();
+  const NeighbourGrid own(finite, r, coral.dimension);
+  for (const Vec3& q : finite) {
+    int n = 0;
+    Vec3 sum = Vec3::Zero();
+    Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
+    own.forEachWithin(q, r, [&](const Vec3& p, uint32_t) {
+      const Vec3 d = p - q;
+      ++n;
+      sum += d;
+      sq += d * d.transpose();
+    });
+    if (n < coral.min_neighbours) continue;
+    const Vec3 mean = sum / n;
+    Vec3 normal;
+    double line_likeness = 0.0;  // not used: weighting by it moved the optimum off Q's
+    if (!surfaceNormal(sq / n - mean * mean.transpose(), coral.dimension, &normal, &line_likeness))
+      continue;
+    m.points.push_back(q);
+    m.normals.push_back(normal);
+  }
+  m.near = std::min(cfg.max_correspondence, 2.0 * r);
+  m.grid = std::make_unique<NeighbourGrid>(m.points, m.near, coral.dimension);
+}
+
+SurfaceTarget::~SurfaceTarget() = default;
+
+std::size_t SurfaceTarget::size() const { return impl_->points.size(); }
+
+RegistrationResult SurfaceTarget::align(const Points& b, const Eigen::Isometry3d& T_init) const {
+  const Impl& m = *impl_;
+  RegistrationResult res;
+  res.T_a_b = T_init;
+  Points source;
+  const std::size_t stride =
+      std::max<std::size_t>(1, (b.size() + kMaxSourcePoints - 1) / kMaxSourcePoints);
+  for (std::size_t i = 0; i < b.size(); i += stride)
+    if (b[i].allFinite()) source.push_back(b[i]);
+  if (m.points.empty()) return res;
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  const double scale2 = m.cfg.robust_scale * m.cfg.robust_scale;
+  for (int it = 1; it <= m.cfg.max_iterations; ++it) {
+    res.iterations = it;
+    Mat6 H = Mat6::Zero();
+    Vec6 g = Vec6::Zero();
+    int count = 0;
+    for (const Vec3& p : source) {
+      const Vec3 q = res.T_a_b * p;
+      const int k = m.nearest(q);
+      if (k < 0) continue;
+      const Vec3& n = m.normals[k];
+      // Residual n . (q - t) and its Jacobian for q moved by exp(delta): [n; q x n].
+      const double r = n.dot(q - m.points[k]);
+      Vec6 J;
+      J << n, q.cross(n);
+      // Cauchy weight (iteratively reweighted least squares): structure seen in one scan
+      // only pulls little once its residuals exceed the scale.
+      const double w = scale2 > 0.0 ? 1.0 / (1.0 + r * r / scale2) : 1.0;
+      H += w * J * J.transpose();
+      g += w * r * J;
+      ++count;
+    }
+    res.correspondences = count;
+    if (count < m.cfg.min_correspondences) return res;
+    Vec6 delta = Vec6::Zero();
+    if (m.dimension == 2) {  // x, y, yaw only
+      const int idx[3] = {0, 1, 5};
+      Eigen::Matrix3d h;
+      Eigen::Vector3d gg;
+      for (int i = 0; i < 3; ++i) {
+        gg(i) = g(idx[i]);
+        for (int j = 0; j < 3; ++j) h(i, j) = H(idx[i], idx[j]);
+      }
+      const Eigen::Vector3d d = h.ldlt().solve(-gg);
+      for (int i = 0; i < 3; ++i) delta(idx[i]) = d(i);
+    } else {
+      delta = H.ldlt().solve(-g);
+    }
+    if (!delta.allFinite()) return res;  // degenerate (a single line or plane)
+    const Vec3 w = delta.tail<3>();
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    if (w.norm() > 0.0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
+    step.translation() = delta.head<3>();
+    res.T_a_b = step * res.T_a_b;
+    if (delta.head<3>().norm() < m.cfg.min_step && w.norm() < m.cfg.min_step) {
+      res.converged = true;
+      return res;
+    }
+  }
+  return res;
+}
+
+}  // namespace coral
+}  // namespace coral_introspection

@@ -1,0 +1,64 @@
+#include "coral_introspection/coral/restart_check.hpp"
+
+#include <cmath>
+
+#include "coral_introspection/coral/refinement.hpp"
+#include "coral_introspection/coral/validation.hpp"
+
+namespace coral_introspection {
+namespace coral {
+
+std::string RestartConfig::validate() const {
+  bool radii_ok = !radii.empty();
+  for (double r : radii) radii_ok = radii_ok && std::isfinite(r) && r > 0.0;
+  return Problems()
+      .require(radii_ok, "radii", "non-empty, each > 0", radii.size())
+      .require(directions >= 1, "directions", ">= 1", directions)
+      .require(min_distance > 0.0, "min_distance", "> 0 tolerances", min_distance)
+      .require(max_q_ratio > 0.0 && max_q_ratio <= 1.0, "max_q_ratio", "in (0, 1]", max_q_ratio)
+      .require(min_overlap_ratio >= 0.0 && min_overlap_ratio <= 1.0, "min_overlap_ratio",
+               "in [0, 1]", min_overlap_ratio)
+      .nested("registration", registration.validate())
+      .str();
+}
+
+RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                       const JudgedPose& candidate,
+                                       const ToleranceConfig& tolerance, const RestartConfig& cfg,
+                                       const PoseJudge& judge) {
+  RestartResult out;
+  out.run = true;
+  out.q_candidate = candidate.quality;
+  out.overlap_candidate = candidate.overlap;
+  const double q_candidate = candidate.quality;
+  const SurfaceTarget target(pair.points(0), pair.config(), cfg.registration);
+  // "Clearly lower": by a share of |Q| (Q may be slightly negative on clean walls).
+  double best_q = q_candidate - (1.0 - cfg.max_q_ratio) * std::abs(q_candidate);
+  for (double radius : cfg.radii)
+    for (int k = 0; k < cfg.directions; ++k) {
+      const double angle = 2.0 * M_PI * k / cfg.directions;
+      Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+      start.translation() =
+          radius * tolerance.translation * Vec3(std::cos(angle), std::sin(angle), 0.0);
+      const RegistrationResult r = target.align(pair.points(1), T_a_b * start);
+      ++out.starts;
+      if (!r.usable(cfg.registration)) continue;
+      ++out.usable;
+      const double distance = toleranceSize(T_a_b.inverse() * r.T_a_b, tolerance);
+      if (distance < cfg.min_distance) continue;  // back at the candidate's pose
+      const JudgedPose w = judge(r.T_a_b);
+      if (!w.accepted || !(w.quality < best_q) ||
+          !(w.overlap >= cfg.min_overlap_ratio * candidate.overlap))
+        continue;
+      best_q = w.quality;
+      out.better_elsewhere = true;
+      out.T_a_b = r.T_a_b;
+      out.distance = distance;
+      out.q = w.quality;
+      out.overlap = w.overlap;
+    }
+  return out;
+}
+
+}  // namespace coral
+}  // namespace coral_introspection
