@@ -82,8 +82,10 @@ double weakestDirection(const std::vector<Shared>& pts, int dim, double k) {
 
 }  // namespace
 
-bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight) {
+bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight,
+                   double* spread) {
   *normal = Vec3::Zero();
+  if (spread) *spread = 1.0;
   if (dimension == 2) {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov.topLeftCorner<2, 2>());
     const Eigen::Vector2d ev = es.eigenvalues();
@@ -97,6 +99,7 @@ bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, doub
   if (!(ev(1) > 0.0)) return false;
   *normal = es.eigenvectors().col(0);
   *weight = 1.0 - std::max(0.0, ev(0)) / ev(1);
+  if (spread) *spread = ev(1) / ev(2);
   return true;
 }
 

@@ -20,10 +20,16 @@ std::string RegistrationConfig::validate() const {
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
       .require(std::isfinite(min_step) && min_step > 0.0, "min_step", "> 0", min_step)
       .require(min_correspondences >= 3, "min_correspondences", ">= 3", min_correspondences)
+      .require(std::isfinite(normal_radius) && normal_radius >= 0.0, "normal_radius",
+               ">= 0 m (0 = CorAl's radius)", normal_radius)
       .require(std::isfinite(robust_scale) && robust_scale >= 0.0, "robust_scale",
                ">= 0 m (0 = least squares)", robust_scale)
       .str();
 }
+
+// 3D target points whose neighbourhood spreads less than this in its second direction
+// (surfaceNormal's spread, lambda_mid / lambda_max) get no normal.
+constexpr double kMinSpread = 0.1;
 
 struct SurfaceTarget::Impl {
   int dimension = 3;
@@ -63,7 +69,7 @@ SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
   Points finite;
   for (const Vec3& p : a)
     if (p.allFinite()) finite.push_back(p);
-  const double r = coral.maxRadius();
+  const double r = cfg.normal_radius > 0.0 ? cfg.normal_radius : coral.maxRadius();
   const NeighbourGrid own(finite, r, coral.dimension);
   for (const Vec3& q : finite) {
     int n = 0;
@@ -78,8 +84,14 @@ SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
     if (n < coral.min_neighbours) continue;
     const Vec3 mean = sum / n;
     Vec3 normal;
-    double line_likeness = 0.0;  // not used: weighting by it moved the optimum off Q's
-    if (!surfaceNormal(sq / n - mean * mean.transpose(), coral.dimension, &normal, &line_likeness))
+    // 3D: a neighbourhood along one ring of a spinning lidar (a ring on the ground, a wall
+    // seen by one ring) is a line, whose least direction is no surface normal: a ring's arc on
+    // flat ground gets a horizontal "normal" and pulls the other scan's rings (at other radii)
+    // onto its own. Only patches spread in two directions are used.
+    double likeness = 0.0, spread = 0.0;
+    if (!surfaceNormal(sq / n - mean * mean.transpose(), coral.dimension, &normal, &likeness,
+                       &spread) ||
+        spread < kMinSpread)
       continue;
     m.points.push_back(q);
     m.normals.push_back(normal);

@@ -60,6 +60,29 @@ TEST(Registration, PointToLineComesBackToTheTruePose) {
   }
 }
 
+// 3D (point-to-plane, 6 DoF): a 16-ring scan of the same yard, offsets in every axis. With
+// CorAl's 0.3 m radius most neighbourhoods hold one ring: lines, which get no normal (a first
+// version took their least direction and ended 7-15 cm off); 1 m spans two rings.
+TEST(Registration, PointToPlaneComesBackToTheTruePoseIn3d) {
+  const test::YardPair p = test::yardPair(16);
+  coral::CoralConfig coral;  // 3D, r = 0.3 m
+  const coral::CoralPair pair(p.a, p.b, coral);
+  coral::RegistrationConfig reg;
+  reg.normal_radius = 1.0;  // [m] patches spanning two of the 16 rings
+  const coral::SurfaceTarget target(pair.points(0), coral, reg);
+  EXPECT_GT(target.size(), 1000u);
+  Eigen::Isometry3d tilt = coral::se2(0.2, -0.3, 0.05);
+  tilt.translation().z() = 0.15;
+  tilt.linear() = tilt.linear() * Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitX()).matrix() *
+                  Eigen::AngleAxisd(-0.03, Eigen::Vector3d::UnitY()).matrix();
+  for (const Eigen::Isometry3d& off : {se2(0.5, 0.0, 0.0), se2(0.0, 0.0, -0.1), tilt}) {
+    const coral::RegistrationResult r = target.align(pair.points(1), p.T_a_b * off);
+    EXPECT_TRUE(r.usable(reg));
+    EXPECT_GT(r.correspondences, 500);
+    expectNear(r.T_a_b, p.T_a_b, 0.03, 0.3);
+  }
+}
+
 TEST(Registration, NoCorrespondencesIsNotConverged) {
   YardCheck s;
   const coral::SurfaceTarget target(s.pair->points(0), s.coral, coral::RegistrationConfig());
@@ -156,6 +179,12 @@ TEST(RestartCheck, RefusesBadSettings) {
   c = coral::RestartConfig();
   c.registration.max_iterations = 0;
   refused(c, "max_iterations");
+  c = coral::RestartConfig();
+  c.registration.normal_radius = -1.0;
+  refused(c, "normal_radius");
+  c = coral::RestartConfig();
+  c.registration.robust_scale = -0.1;
+  refused(c, "robust_scale");
   coral::VerdictConfig v;
   v.restart.directions = 0;
   refused(v.restart, "directions");

@@ -43,8 +43,11 @@ struct ConstraintResult {
 // The least direction of a neighbourhood's covariance (its surface normal: a line's in 2D,
 // dimension 2 reads the x-y block, a plane's in 3D) and how line- or plane-like it is,
 // weight = 1 - lambda_min / lambda_mid in [0, 1]. False when the neighbourhood is not even a
-// line (lambda_mid <= 0). Also the normals of the restart check's registration.
-bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight);
+// line (lambda_mid <= 0). *spread (optional): lambda_mid / lambda_max in 3D, how far the
+// neighbourhood is from a line (1 in 2D). Also the normals of the restart check's
+// registration.
+bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight,
+                   double* spread = nullptr);
 
 ConstraintResult registrationConstraint(const Points& a, const Points& b,
                                         const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,

@@ -28,6 +28,11 @@ struct RegistrationConfig {
   // in rotation.
   double min_step = 1e-5;
   int min_correspondences = 10;  // fewer at any iteration: no result
+  // [m] radius of the neighbourhood a target point's normal is estimated from; 0 = CorAl's
+  // (CoralConfig::maxRadius()). A spinning lidar's rings lie further apart than CorAl's radius
+  // at range: its patches need a larger one to span two rings (3D points whose neighbourhood
+  // is a line get no normal).
+  double normal_radius = 0.0;
   // [m] Cauchy scale of the residuals (0 = plain least squares). Loop candidates share part
   // of their structure only; unweighted, what one scan sees and the other does not pulls
   // the optimum centimetres to decimetres off the revisit's (measured on the ACES and Intel
@@ -52,8 +57,9 @@ struct RegistrationResult {
 };
 
 // Scan a (its own frame) prepared once as the target of many registrations: the points whose
-// neighbourhood within coral.maxRadius() holds coral.min_neighbours points and is a line
-// (2D) or a plane (3D), with their normals. Non-finite points are skipped.
+// neighbourhood within cfg.normal_radius (0: coral.maxRadius()) holds coral.min_neighbours
+// points and is a line (2D) or a plane spread in two directions (3D), with their normals.
+// Non-finite points are skipped.
 class SurfaceTarget {
  public:
   // Preconditions: coral.validate() and cfg.validate() are empty.
