@@ -29,7 +29,6 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
   RestartResult out;
   out.run = true;
   out.q_candidate = candidate.quality;
-  out.overlap_candidate = candidate.overlap;
   const double q_candidate = candidate.quality;
   const SurfaceTarget target(pair.points(0), pair.config(), cfg.registration);
   // "Clearly lower": by a share of |Q| (Q may be slightly negative on clean walls).
@@ -55,7 +54,6 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       out.T_a_b = r.T_a_b;
       out.distance = distance;
       out.q = w.quality;
-      out.overlap = w.overlap;
     }
   return out;
 }

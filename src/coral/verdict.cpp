@@ -202,28 +202,20 @@ bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg) {
   return cfg.method == VerdictMethod::kGated && cfg.gate.max_refinement > 0.0 && v.valid &&
          !v.aligned;
 }
-}  // namespace
 
-namespace {
 // Gate `restarts` on verdict v, accepted at T_a_b: registered again from other starts
 // (restart_check.hpp); a better alignment elsewhere rejects v and is offered when the
 // classifier says aligned there too (refinedPoseAccepted), as a refined pose is.
 void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
                    AlignmentVerdict* v) {
-  AlignmentVerdict best;
   v->restart = betterAlignmentElsewhere(
-      pair, T_a_b, {true, v->coral.quality, v->coral.overlap}, cfg.tolerance, cfg.restart,
-      [&](const Eigen::Isometry3d& T) {
-        AlignmentVerdict w = judgeAtPose(pair, T, cfg);
-        const JudgedPose j{w.valid && w.aligned, w.coral.quality, w.coral.overlap};
-        // Pose-by-pose order of betterAlignmentElsewhere: each accepted pose of lower Q
-        // replaces the previous best.
-        if (j.accepted && w.coral.quality < (best.valid ? best.coral.quality : 1e300))
-          best = std::move(w);
-        return j;
-      });
+      pair, T_a_b, judgedPose(*v), cfg.tolerance, cfg.restart,
+      [&](const Eigen::Isometry3d& T) { return judgedPose(judgeAtPose(pair, T, cfg)); });
   const RestartResult& r = v->restart;
   if (!r.better_elsewhere) return;
+  // Judged again at the pose the check chose (rarely: only when it rejects) rather than
+  // mirroring its choice in the judge above.
+  const AlignmentVerdict best = judgeAtPose(pair, r.T_a_b, cfg);
   v->aligned = false;
   // The local terms still say aligned; at most 0.5 so that the probability does not read
   // as a confident "aligned" for a rejected candidate.
@@ -268,6 +260,10 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   v.rejected_by += "; at the pose refined by " + number(v.refinement.size) +
                    " tolerances: " + (v.refined ? "passes (transform_a_b * correction)" : why);
   return v;
+}
+
+JudgedPose judgedPose(const AlignmentVerdict& v) {
+  return {v.valid && v.aligned, v.coral.quality, v.coral.overlap};
 }
 
 bool refinedPoseAccepted(const AlignmentVerdict& at_refined) {

@@ -31,10 +31,8 @@ struct YardCheck {
     const coral::AlignmentVerdict v = coral::judgeAlignment(*pair, T, judge);
     EXPECT_TRUE(v.valid);
     return coral::betterAlignmentElsewhere(
-        *pair, T, {true, v.coral.quality, v.coral.overlap}, judge.tolerance, cfg,
-        [&](const Eigen::Isometry3d& pose) {
-          const coral::AlignmentVerdict w = coral::judgeAlignment(*pair, pose, judge);
-          return coral::JudgedPose{w.valid && w.aligned, w.coral.quality, w.coral.overlap};
+        *pair, T, coral::judgedPose(v), judge.tolerance, cfg, [&](const Eigen::Isometry3d& pose) {
+          return coral::judgedPose(coral::judgeAlignment(*pair, pose, judge));
         });
   }
 };

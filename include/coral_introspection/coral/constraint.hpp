@@ -31,15 +31,6 @@ struct ConstraintResult {
   int points = 0;  // shared surface points used (both scans)
 };
 
-// a and b each in their own sensor frame, b moved into a's frame by T_a_b (as
-// freeSpaceConflict takes them). A point is shared when it has
-// coral.min_neighbours points of its own scan and coral.min_neighbours_other of the other
-// within coral.maxRadius() (CorAl's overlap); its normal is the least direction of its own
-// neighbourhood's covariance, weighted by how line-like (2D) or plane-like (3D) that is
-// (1 - lambda_min / lambda_mid), so that corners and clutter pin less than walls. Rotation
-// is about the centroid of the shared points. dimension 2: x, y, yaw (3 x 3); 3: 6 x 6. At
-// most kMaxQueries points per scan are used (a deterministic stride): bounded work on dense
-// 3D clouds. Never throws; non-finite points are skipped.
 // The least direction of a neighbourhood's covariance (its surface normal: a line's in 2D,
 // dimension 2 reads the x-y block, a plane's in 3D) and how line- or plane-like it is,
 // weight = 1 - lambda_min / lambda_mid in [0, 1]. False when the neighbourhood is not even a
@@ -49,6 +40,15 @@ struct ConstraintResult {
 bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight,
                    double* spread = nullptr);
 
+// a and b each in their own sensor frame, b moved into a's frame by T_a_b (as
+// freeSpaceConflict takes them). A point is shared when it has
+// coral.min_neighbours points of its own scan and coral.min_neighbours_other of the other
+// within coral.maxRadius() (CorAl's overlap); its normal is the least direction of its own
+// neighbourhood's covariance, weighted by how line-like (2D) or plane-like (3D) that is
+// (1 - lambda_min / lambda_mid), so that corners and clutter pin less than walls. Rotation
+// is about the centroid of the shared points. dimension 2: x, y, yaw (3 x 3); 3: 6 x 6. At
+// most kMaxQueries points per scan are used (a deterministic stride): bounded work on dense
+// 3D clouds. Never throws; non-finite points are skipped.
 ConstraintResult registrationConstraint(const Points& a, const Points& b,
                                         const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,
                                         const ToleranceConfig& tolerance);

@@ -5,9 +5,8 @@
 // alignment lies a metre or more away (a registration that stopped off the revisit along
 // repeated structure). Gauss-Newton on n . (T p - q) for each point p of b and the nearest
 // point q of a (normal n from q's own neighbourhood, as in constraint.hpp; Cauchy weights),
-// the linearised
-// point-to-plane ICP of Chen and Medioni (1992) as ROS's laser_scan_matcher (PL-ICP) and PCL's
-// point-to-plane ICP use it. ROS-free, no exceptions.
+// the linearised point-to-plane ICP of Chen and Medioni (1992) as ROS's laser_scan_matcher
+// (PL-ICP) and PCL's point-to-plane ICP use it. ROS-free, no exceptions.
 #pragma once
 
 #include <memory>

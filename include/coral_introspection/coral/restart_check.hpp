@@ -42,10 +42,9 @@ struct RestartResult {
   bool run = false;               // the check ran (a valid candidate the loop verdict accepted)
   bool better_elsewhere = false;  // a better alignment was found: the candidate is rejected
   Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  // the best one found, if any
-  double distance = 0.0;     // its distance from the candidate's pose [tolerances]
-  double q = 0.0;            // its Q [nats]
-  double q_candidate = 0.0;  // the candidate's Q [nats]
-  double overlap = 0.0, overlap_candidate = 0.0;  // the same for the overlap [-]
+  double distance = 0.0;       // its distance from the candidate's pose [tolerances]
+  double q = 0.0;              // its Q [nats]
+  double q_candidate = 0.0;    // the candidate's Q [nats]
   int starts = 0, usable = 0;  // registrations run and usable (RegistrationResult::usable)
 };
 

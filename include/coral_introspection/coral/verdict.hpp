@@ -165,6 +165,10 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
 // 0.6-0.999, the false ones that pass the gate 0.01-0.4 (doc/loop_closure.md).
 bool refinedPoseAccepted(const AlignmentVerdict& at_refined);
 
+// What the restart check reads of a verdict judged at one pose (restart_check.hpp):
+// {valid and aligned, Q, overlap}.
+JudgedPose judgedPose(const AlignmentVerdict& v);
+
 // The classifier as the nodelet's private parameters ~classifier/method, beta0, beta1, beta2,
 // threshold (`<rosparam file=.../>` inside the nodelet, coral.launch classifier:=, coral_check
 // --classifier). method is `classifier`: loaded over a preset whose default method is
