@@ -59,7 +59,12 @@ set(CORAL_CORE_LIBRARIES coral_introspection_config coral_introspection_coral
 # Tests find ../shared/data next to the real (symlink-resolved) source tree, or
 # $CORAL_DATA_DIR; the support header skips with a message when neither exists.
 get_filename_component(CORAL_REAL_SOURCE_DIR ${PROJECT_SOURCE_DIR} REALPATH)
-set(CORAL_TEST_DEFINITIONS CORAL_SOURCE_DIR="${CORAL_REAL_SOURCE_DIR}")
+# The path reaches the tests through one object (coral_test::sourceDir, test/support), not a
+# definition on every test: the test objects then do not depend on where the clone lives and
+# the compiler cache reuses them for another clone (scripts/env.sh). Built only for tests.
+add_library(coral_test_source_dir STATIC EXCLUDE_FROM_ALL ${PROJECT_SOURCE_DIR}/test/support/source_dir.cpp)
+target_include_directories(coral_test_source_dir PRIVATE ${PROJECT_SOURCE_DIR}/test)
+target_compile_definitions(coral_test_source_dir PRIVATE CORAL_SOURCE_DIR="${CORAL_REAL_SOURCE_DIR}")
 # ROS-free gtests: test/<library>/test_*.cpp; each links its library and, for fixtures and
 # datasets, eval.
 file(GLOB CORAL_CORE_TESTS CONFIGURE_DEPENDS

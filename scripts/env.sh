@@ -6,6 +6,17 @@ export CORAL_WS="${CORAL_WS:-${HOME}/.cache/coral_introspection/ws}"
 export ROS_HOME="${ROS_HOME:-${CORAL_WS}/ros_home}"
 export PYTHONNOUSERSITE=1
 unset PYTHONPATH PYTHONHOME
+# Compiler cache (ccache, scripts/install_deps.sh). A fresh clone (CI) gives every file a new
+# mtime, so make would compile everything again; ccache hashes the preprocessed source and
+# hands back the objects of unchanged files. Every build of these scripts (workspace,
+# sanitizer and mutation builds) passes coral_launcher_args; the cache lives beside them.
+export CCACHE_DIR="${CCACHE_DIR:-${HOME}/.cache/coral_introspection/ccache}"
+export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-12G}"
+coral_launcher_args() {
+  if command -v ccache > /dev/null; then
+    echo "-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache"
+  fi
+}
 
 # Links this source tree into the catkin workspace $1 and prints --force-cmake when the link
 # pointed elsewhere before (another clone): the test binaries carry the source path that
@@ -26,21 +37,23 @@ coral_link_source() {
 # and the messages), not every tool.
 coral_build() {
   mkdir -p "${ROS_HOME}"
-  local jobs force
+  local jobs force launcher
   force="$(coral_link_source "${CORAL_WS}")"
+  launcher="$(coral_launcher_args)"
   jobs="$(nproc)"
   (
     cd "${CORAL_WS}"
-    # shellcheck disable=SC2086  # ${force}: empty or one word
+    # shellcheck disable=SC2086  # ${force}, ${launcher}: words or empty
     if [ "${1:-}" = "demo" ]; then
-      catkin_make ${force} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+      catkin_make ${force} ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
         -j"${jobs}" coral_introspection_generate_messages coral_introspection_nodelets coral_demo_pair \
         coral_sequence_demo
     else
-      catkin_make ${force} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
+      catkin_make ${force} ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
     fi
     if [ "${1:-}" = "tests" ]; then
-      catkin_make -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests
+      # shellcheck disable=SC2086
+      catkin_make ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests
     fi
   )
   coral_source_ws

@@ -7,6 +7,7 @@ set -euo pipefail
 PKGS=(
   # toolchain; clang-format 14 for scripts/ci/check_format.sh
   build-essential cmake pkg-config libgtest-dev libeigen3-dev clang-format-14
+  ccache  # scripts/env.sh: a fresh clone reuses the objects of unchanged files
   # ROS 1 from Debian (Noetic-era, installs into /usr)
   ros-base-dev catkin ros-message-generation ros-message-runtime
   libroscpp-dev rosout rosbash python3-roslaunch python3-rostopic python3-rosservice python3-rosnode

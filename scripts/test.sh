@@ -31,9 +31,9 @@ run() {
   shift
   if "$@"; then results+=("PASS  ${name}"); else results+=("FAIL  ${name}"); fi
 }
-# Serial on purpose: every rostest starts its own master on the same port.
+# gtests $(nproc) at a time; the rostests alone (their RUN_SERIAL property, CMakeLists.txt).
 run "ctest (gtest + rostest)" bash -c \
-  "cd '${CORAL_WS}/build/coral_introspection' && ctest --output-on-failure --timeout 900"
+  "cd '${CORAL_WS}/build/coral_introspection' && ctest -j$(nproc) --output-on-failure --timeout 900"
 run "clang-format (scripts/ci/check_format.sh)" bash "${CORAL_REPO}/scripts/ci/check_format.sh"
 run "mutation check (scripts/ci/mutation_check.sh)" bash "${CORAL_REPO}/scripts/ci/mutation_check.sh"
 run "install space (scripts/ci/check_install.sh)" bash "${CORAL_REPO}/scripts/ci/check_install.sh"

@@ -32,7 +32,8 @@ finish() {
 
 # 1. Install (the same cache and flags as coral_build, so nothing is recompiled).
 echo "[check_install] catkin_make install into ${INSTALL}"
-if ! (cd "${CORAL_WS}" && catkin_make -DCMAKE_BUILD_TYPE=Release \
+# shellcheck disable=SC2046
+if ! (cd "${CORAL_WS}" && catkin_make $(coral_launcher_args) -DCMAKE_BUILD_TYPE=Release \
   -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"$(nproc)" install >"${CORAL_WS}/install.log" 2>&1); then
   tail -30 "${CORAL_WS}/install.log"
   bad "catkin_make_install"

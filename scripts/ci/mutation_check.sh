@@ -17,6 +17,7 @@
 #     or when CORAL_BUILD_LOCK_HELD=1.
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+source "${REPO}/scripts/env.sh"  # system python first, the compiler cache (coral_launcher_args)
 WS="${CORAL_WS:-${HOME}/.cache/coral_introspection/ws}"
 WORK="${CORAL_MUTATION_DIR:-${WS}_mutation}"
 SRC="${WORK}/coral_introspection"  # no ../shared/data beside it: the data is absent
@@ -134,7 +135,8 @@ if [ -s "${DIRTY}" ]; then
   while read -r f; do [ -e "${SRC}/${f}" ] && touch "${SRC}/${f}"; done < "${DIRTY}"
 fi
 # -O1: each mutation rebuilds what includes the changed file; compiling dominates.
-cmake -S "${SRC}" -B "${BUILD}" -DCORAL_CORE_ONLY=ON -DCMAKE_BUILD_TYPE=Release \
+# shellcheck disable=SC2046
+cmake -S "${SRC}" -B "${BUILD}" $(coral_launcher_args) -DCORAL_CORE_ONLY=ON -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" > "${WORK}/cmake.log"
 # shellcheck disable=SC2086
 if ! build ${all_targets}; then

@@ -22,8 +22,8 @@ start=$(date +%s)
   cd "${CORAL_WS_SAN}"
   # Only the libraries the tests and harnesses link, the tests and the harnesses: no
   # nodelet plugin, nodes or tools (they add build time and nothing runs them here).
-  # shellcheck disable=SC2086
-  catkin_make ${force} -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  # shellcheck disable=SC2086,SC2046
+  catkin_make ${force} $(coral_launcher_args) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_CXX_FLAGS="${SAN_FLAGS}" -DCMAKE_C_FLAGS="${SAN_FLAGS}" -DCMAKE_CXX_FLAGS_DEBUG="-g -O1" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DCORAL_FUZZ=ON \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"$(nproc)" tests ${FUZZERS}
@@ -43,5 +43,5 @@ cd "${CORAL_WS_SAN}/build/coral_introspection"
 # Every gtest; test_preset_verdicts judges every 16th shared real pair only (all pairs take 35 s
 # in Release and more than 22 min under the sanitizers; the Release run judges them all).
 CORAL_VERDICT_PAIR_STRIDE="${CORAL_VERDICT_PAIR_STRIDE:-16}" \
-  ctest --output-on-failure --timeout 1800 -R '_gtest_'
+  ctest -j"$(nproc)" --output-on-failure --timeout 1800 -R '_gtest_'
 echo "[test_sanitizers] gtests under ASan + UBSan: $(( $(date +%s) - start )) s"

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "coral_introspection/ros/coral_params.hpp"
+#include "support/source_dir.hpp"
 
 using namespace coral_introspection;
 using ros_adapters::NodeConfig;
@@ -92,7 +93,7 @@ TEST(ConfigDefaults, EveryReconfigureParameterIsChecked) {
 
 // ---- presets ---------------------------------------------------------------------------
 
-const std::string kSource = CORAL_SOURCE_DIR;
+const std::string kSource = coral_test::sourceDir();
 
 // Loads YAML files the way roslaunch's <rosparam command="load"> does (rosparam's YAML
 // loader, later files merged key by key over earlier ones) and converts the tree through

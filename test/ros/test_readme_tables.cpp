@@ -11,13 +11,14 @@
 
 #include "coral_introspection/ros/coral_diagnostics.hpp"
 #include "coral_introspection/ros/coral_params.hpp"
+#include "support/source_dir.hpp"
 
 using namespace coral_introspection::ros_adapters;
 
 namespace {
 
 std::vector<std::string> readmeLines() {
-  std::ifstream in(std::string(CORAL_SOURCE_DIR) + "/README.md");
+  std::ifstream in(coral_test::sourceDir() + "/README.md");
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) lines.push_back(l);
   return lines;

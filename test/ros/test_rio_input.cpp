@@ -9,6 +9,7 @@
 #include "coral_introspection/config/yaml_tree.hpp"
 #include "coral_introspection/rio/config_yaml.hpp"
 #include "coral_introspection/ros/rio_input.hpp"
+#include "support/source_dir.hpp"
 
 namespace ra = coral_introspection::ros_adapters;
 namespace rio = coral_introspection::rio;
@@ -199,8 +200,7 @@ TEST(RioInput, ConfigFromYamlIsValidated) {
 // Every RioNodelet / rio_offline config in config/ loads without errors.
 TEST(RioInput, EveryRioConfigLoads) {
   int n = 0;
-  for (const auto& e :
-       std::filesystem::directory_iterator(std::string(CORAL_SOURCE_DIR) + "/config")) {
+  for (const auto& e : std::filesystem::directory_iterator(coral_test::sourceDir() + "/config")) {
     const std::string name = e.path().filename().string();
     if (name.rfind("rio_", 0) != 0) continue;
     SCOPED_TRACE(name);

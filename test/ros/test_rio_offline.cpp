@@ -22,7 +22,7 @@ using coral_test::tempPath;
 
 namespace {
 
-const std::string kTiConfig = std::string(CORAL_SOURCE_DIR) + "/config/rio_ti_mmwave.yaml";
+const std::string kTiConfig = coral_test::sourceDir() + "/config/rio_ti_mmwave.yaml";
 
 bool exists(const std::string& path) { return std::ifstream(path).good(); }
 

@@ -208,8 +208,8 @@ TEST(CoralCheckRadar, OxfordPngPairAtGroundTruthIsAligned) {
   ASSERT_TRUE(ds.load(coral_data, &err)) << err;
   const std::string t = tempPath("cc_radar_t", ".txt");
   writeMatrix(t, ds.T_prev_curr[1]);
-  const std::string cfg = std::string(CORAL_SOURCE_DIR) + "/config/radar_oxford.yaml";
-  const std::string clf = std::string(CORAL_SOURCE_DIR) + "/config/classifier_radar_oxford.yaml";
+  const std::string cfg = coral_test::sourceDir() + "/config/radar_oxford.yaml";
+  const std::string clf = coral_test::sourceDir() + "/config/classifier_radar_oxford.yaml";
   const CheckRun r =
       runCheck("--config " + cfg + " --classifier " + clf + " --a " + ds.png_paths[0] + " --b " +
                ds.png_paths[1] + " --transform_file " + t);
@@ -236,7 +236,7 @@ TEST(CoralCheckLoopClosure, LivoxRevisitAcceptedAndWrongPosesRejected) {
   registerPair(a.points, b.points, poses[109].inverse() * poses[161], LoopCandidateConfig(), &reg);
   ASSERT_TRUE(reg.converged);
   const Eigen::Isometry3d T_a_b = reg.T_a_b;
-  const std::string cfg = std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml";
+  const std::string cfg = coral_test::sourceDir() + "/config/lidar_3d.yaml";
   const std::string scans = " --a " + coral_data + "/Scans/000109.pcd --b " + coral_data +
                             "/Scans/000161.pcd --transform_file ";
   Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
@@ -309,9 +309,9 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
   writePcd(a, set.rel_scans[pick->a].scan.points);
   writePcd(b, set.rel_scans[pick->b].scan.points);
   writeMatrix(t, pick->T_a_b * off);
-  const CheckRun r = runCheck("--config " + std::string(CORAL_SOURCE_DIR) +
-                              "/config/lidar_2d.yaml --loop_closure --a " + a + " --b " + b +
-                              " --transform_file " + t);
+  const CheckRun r =
+      runCheck("--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml --loop_closure --a " +
+               a + " --b " + b + " --transform_file " + t);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;  // the given pose is 0.2 m off
   EXPECT_NE(field(r.out, "rejected_by").find("passes"), std::string::npos) << r.out;

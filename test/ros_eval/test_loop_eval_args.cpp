@@ -7,7 +7,7 @@
 #include "support/run_tool.hpp"
 
 TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
-  const std::string config = std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml";
+  const std::string config = coral_test::sourceDir() + "/config/lidar_3d.yaml";
   const std::string base = "--config " + config + " --keyframes /nonexistent_keyframes ";
   const struct {
     std::string args, reason;

@@ -86,7 +86,7 @@ TEST(PresetFile, WrittenClassifierFileLoadsOverAPreset) {
   ros_adapters::NodeConfig n;
   std::string err;
   ASSERT_TRUE(ros_eval::loadPresetFiles(
-      {std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", written}, &n, &err))
+      {coral_test::sourceDir() + "/config/lidar_3d.yaml", written}, &n, &err))
       << err;
   std::remove(written.c_str());
   const coral::VerdictConfig& v = n.online.verdict;
@@ -106,15 +106,15 @@ TEST(PresetFile, EveryShippedPresetLoads) {
     ros_adapters::NodeConfig node;
     coral::VerdictConfig v;
     std::string err;
-    EXPECT_TRUE(ros_eval::loadPresetFile(std::string(CORAL_SOURCE_DIR) + "/config/" + p + ".yaml",
-                                         &node, &v, &err))
+    EXPECT_TRUE(ros_eval::loadPresetFile(coral_test::sourceDir() + "/config/" + p + ".yaml", &node,
+                                         &v, &err))
         << p << ": " << err;
   }
   ros_adapters::NodeConfig node;
   std::string err;
-  EXPECT_TRUE(ros_eval::loadPresetFiles(
-      {std::string(CORAL_SOURCE_DIR) + "/config/radar_oxford.yaml",
-       std::string(CORAL_SOURCE_DIR) + "/config/classifier_radar_oxford.yaml"},
-      &node, &err))
+  EXPECT_TRUE(
+      ros_eval::loadPresetFiles({coral_test::sourceDir() + "/config/radar_oxford.yaml",
+                                 coral_test::sourceDir() + "/config/classifier_radar_oxford.yaml"},
+                                &node, &err))
       << err;
 }

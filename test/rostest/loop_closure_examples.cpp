@@ -78,7 +78,7 @@ TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
   // (devel/lib/python3/dist-packages); catkin's cached test environment may have an empty
   // PYTHONPATH (a workspace configured before its devel space existed), so name them here.
   const std::string py = "PYTHONPATH=" + ownDir() + "/../python3/dist-packages:${PYTHONPATH} " +
-                         "/usr/bin/python3 " + CORAL_SOURCE_DIR +
+                         "/usr/bin/python3 " + coral_test::sourceDir() +
                          "/doc/examples/loop_closure_gate.py";
   const std::string pair =
       " --a " + coral_data + "/Scans/000109.pcd --b " + coral_data + "/Scans/000161.pcd";

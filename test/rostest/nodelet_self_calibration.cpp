@@ -181,8 +181,8 @@ TEST(NodeletSelfCalibration, WrongClassifierBecomesRightOnLivoxKeyframes) {
   std::string file;
   ASSERT_TRUE(pnh.getParam("calibration_file", file));
   ra::NodeConfig cfg;
-  ASSERT_TRUE(ros_eval::loadPresetFiles(
-      {std::string(CORAL_SOURCE_DIR) + "/config/lidar_3d.yaml", file}, &cfg, &error))
+  ASSERT_TRUE(ros_eval::loadPresetFiles({coral_test::sourceDir() + "/config/lidar_3d.yaml", file},
+                                        &cfg, &error))
       << error;
   EXPECT_EQ(cfg.online.verdict.method, coral::VerdictMethod::kClassifier);
   EXPECT_LT(cfg.online.verdict.classifier.beta0, 30.0);  // not the wrong starting point

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "coral_introspection/ros_eval/preset_file.hpp"
+#include "support/source_dir.hpp"
 
 namespace coral_test {
 
@@ -15,7 +16,7 @@ inline void loadPreset(const std::string& name,
   coral_introspection::coral::VerdictConfig verdict;
   std::string err;
   ASSERT_TRUE(coral_introspection::ros_eval::loadPresetFile(
-      std::string(CORAL_SOURCE_DIR) + "/config/" + name + ".yaml", node, &verdict, &err))
+      coral_test::sourceDir() + "/config/" + name + ".yaml", node, &verdict, &err))
       << err;
 }
 

@@ -15,6 +15,8 @@
 #include <cstring>
 #include <string>
 
+#include "support/source_dir.hpp"
+
 extern char** environ;
 
 namespace coral_test {
@@ -50,13 +52,7 @@ struct DataLookup {
 };
 
 // ../shared/data beside the (symlink-resolved) source tree.
-inline std::string defaultDataRoot() {
-#ifdef CORAL_SOURCE_DIR
-  return std::string(CORAL_SOURCE_DIR) + "/../shared/data";
-#else
-  return "";
-#endif
-}
+inline std::string defaultDataRoot() { return sourceDir() + "/../shared/data"; }
 
 // The data set `subdir` ("" = the root) under $CORAL_DATA_DIR, else under default_root.
 inline DataLookup findData(const std::string& subdir,
