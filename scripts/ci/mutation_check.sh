@@ -41,6 +41,7 @@ MUTATIONS=(
   "constraint without its rotation column@src/coral/constraint.cpp@J << s\.n, k \* \(s\.p - c\)\.cross\(s\.n\);@J << s.n, 0 * (s.p - c).cross(s.n);@test_constraint"
   "refinement walks past its bound@src/coral/refinement.cpp@if \(toleranceSize\(delta, tol\) > bound\) continue;@if (false) continue;@test_refinement"
   "restart check takes a higher Q for a better one@src/coral/restart_check.cpp@!\(w\.quality < best_q\)@!(w.quality > best_q)@test_restart_check"
+  "gate max_quality compared the wrong way@src/coral/verdict.cpp@terms\.quality > gate\.max_quality@terms.quality < gate.max_quality@test_relative_check"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).

@@ -1,6 +1,7 @@
 #include "coral_introspection/coral/verdict.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -42,6 +43,7 @@ std::string GateConfig::validate() const {
                "in [0, 1], 1 = off", max_free_space)
       .require(min_constraint >= 0.0, "min_constraint", ">= 0 tolerances^2, 0 = off",
                min_constraint)
+      .require(!std::isnan(max_quality), "max_quality", "a number of nats, .inf = off", max_quality)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
       .require(max_refinement >= 0.0 && max_refinement <= 1.0, "max_refinement",
@@ -89,7 +91,7 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 }
 
 GateTerms gateTerms(const AlignmentVerdict& v) {
-  return {v.coral.overlap, v.free_space, v.constraint};
+  return {v.coral.overlap, v.coral.quality, v.free_space, v.constraint};
 }
 
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
@@ -139,6 +141,10 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
         out->aligned = false;
         out->rejected_by =
             "gate: overlap " + number(terms.overlap) + " < " + number(gate.min_overlap);
+      } else if (terms.quality > gate.max_quality) {
+        out->aligned = false;
+        out->rejected_by = "gate: Q " + number(terms.quality) + " > " + number(gate.max_quality) +
+                           " nats (the surfaces lie near each other but do not coincide)";
       } else if (terms.free_space.valid && terms.free_space.conflict > gate.max_free_space) {
         out->aligned = false;
         out->rejected_by = "gate: free-space conflict " + number(terms.free_space.conflict) +

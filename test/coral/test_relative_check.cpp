@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "coral_introspection/coral/verdict.hpp"
@@ -222,6 +223,18 @@ TEST(Verdict, GatedRejectsWhatTheGateRejectsAndNamesTheTerm) {
   EXPECT_FALSE(r.aligned);
   EXPECT_NE(r.rejected_by.find("overlap"), std::string::npos) << r.rejected_by;
   v.gate.min_overlap = 0.0;
+  // max_quality: Q at the pose exactly at the bound passes, just above it is rejected.
+  const double q_gt = r.coral.quality;
+  v.gate.max_quality = q_gt;
+  EXPECT_TRUE(judgeAlignment(p.a, p.b, p.T_a_b, coral, v).aligned);
+  v.gate.max_quality = std::nextafter(q_gt, -1e9);
+  r = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(r.aligned);
+  EXPECT_NE(r.rejected_by.find("gate: Q"), std::string::npos) << r.rejected_by;
+  v.gate.max_quality = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(v.validate().find("max_quality"), std::string::npos);
+  v.gate.max_quality = std::numeric_limits<double>::infinity();
   r = judgeAlignment(p.a, p.b, p.T_a_b * se2(0.3, 0.0, 0.0), coral, v);
   EXPECT_FALSE(r.aligned);
   EXPECT_NE(r.rejected_by.find("relative check"), std::string::npos) << r.rejected_by;

@@ -336,3 +336,75 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
       (refined.inverse() * pick->T_a_b * off * in_process.refinement.delta).translation().norm(),
       1e-3);
 }
+
+// The loop gate's restart check through the pinned interface: the first ACES benchmark loop
+// relation (file order) that, moved 2 tolerances (0.6 m) along +-x or +-y of b's frame, the
+// lidar_2d loop verdict accepts at that pose and then rejects because a registration from
+// other starts found a better pose (coral/restart_check.hpp). `coral_check --loop_closure`
+// must reject it the same way ("restarts:" in rejected_by) and, when the better pose is
+// offered, give that pose: the in-process one, closer to the relation than the given pose.
+TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestartCheck) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  coral_introspection::ros_adapters::NodeConfig node;
+  coral_test::loadPreset("lidar_2d", &node);
+  ASSERT_TRUE(node.online.verdict.loop_closure.restarts);
+  LoopCandidateConfig cfg = evaluationCandidates(2, node.online.verdict.tolerance);
+  cfg.max_radius_candidates = 0;  // the relations as they are
+  cfg.max_lookalike_pairs = 1;
+  CarmenLoopSet set;
+  std::string err;
+  ASSERT_TRUE(
+      loadCarmenLoopSet(coral_data + "/aces.clf.bz2",
+                        coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
+                        coral_data + "/aces.relations", cfg, 30, 10, &set, &err))
+      << err;
+  coral_introspection::online::IntrospectorConfig loop = node.online;
+  loop.verdict = loopClosureVerdict(node.online.verdict);
+  const double two_tol = 2.0 * node.online.verdict.tolerance.translation;
+  // Chosen by the code under test (test_loop_closure counts 1 such relation of 220 x 4 moves).
+  const LoopCandidate* pick = nullptr;
+  Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
+  AlignmentVerdict in_process;
+  for (const LoopCandidate& c : set.revisits) {
+    if (c.source != "relation") continue;
+    for (const Eigen::Isometry3d& d : {se2(two_tol, 0.0, 0.0), se2(-two_tol, 0.0, 0.0),
+                                       se2(0.0, two_tol, 0.0), se2(0.0, -two_tol, 0.0)}) {
+      in_process = coral_introspection::online::judgePair(
+                       set.rel_scans[c.a].scan, set.rel_scans[c.b].scan, c.T_a_b * d, loop, false)
+                       .verdict;
+      if (in_process.restart.better_elsewhere) {
+        pick = &c;
+        off = d;
+        break;
+      }
+    }
+    if (pick != nullptr) break;
+  }
+  ASSERT_NE(pick, nullptr) << "no ACES relation moved 2 tolerances that the restart check rejects";
+  EXPECT_FALSE(in_process.aligned);
+  const std::string a = tempPath("cc_restart_a", ".pcd"), b = tempPath("cc_restart_b", ".pcd"),
+                    t = tempPath("cc_restart_t", ".txt");
+  writePcd(a, set.rel_scans[pick->a].scan.points);
+  writePcd(b, set.rel_scans[pick->b].scan.points);
+  writeMatrix(t, pick->T_a_b * off);
+  const CheckRun r =
+      runCheck("--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml --loop_closure --a " +
+               a + " --b " + b + " --transform_file " + t);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;
+  EXPECT_NE(field(r.out, "rejected_by").find("restarts:"), std::string::npos) << r.out;
+  EXPECT_LE(std::stod(field(r.out, "probability")), 0.5) << r.out;
+  const std::size_t open = r.out.find("\"refined_transform\": [");
+  EXPECT_EQ(open != std::string::npos, in_process.refined) << r.out;
+  if (open == std::string::npos) return;
+  std::string nums = r.out.substr(open + 22, r.out.find(']', open) - open - 22);
+  std::replace(nums.begin(), nums.end(), ',', ' ');
+  std::istringstream in(nums);
+  Eigen::Isometry3d better = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 4; ++k) in >> better.matrix()(i, k);
+  ASSERT_FALSE(in.fail()) << nums;
+  // The in-process pose (PCD stores floats: to a millimetre), closer to the relation.
+  EXPECT_LT((better.inverse() * in_process.restart.T_a_b).translation().norm(), 1e-3);
+  EXPECT_LT((pick->T_a_b.inverse() * better).translation().norm(), two_tol - 1e-3) << r.out;
+}

@@ -4,6 +4,7 @@
 // (online introspection, check_alignment, the tests on real pairs).
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,6 +53,12 @@ struct GateConfig {
   // piece of wall are consistent at many poses: a registration that stopped at the wrong one
   // passes CorAl, the classifier and the free-space term alike.
   double min_constraint = 0.0;
+  // [nats] Q at the pose (Eq. 5: H_joint - H_sep) must not exceed this; infinity = off.
+  // Registration leaves a look-alike place at a local minimum of Q, where the relative check
+  // says aligned, but that minimum can lie high: the two places' surfaces lie near each
+  // other without coinciding. CorAl's own absolute test (a threshold on Q) as a loose bound
+  // beside the classifier's (which weighs H_joint and H_sep apart).
+  double max_quality = std::numeric_limits<double>::infinity();
   // [-] loop closures only (loopClosureVerdict): the relative check's margin for these pairs;
   // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
@@ -127,11 +134,13 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 
 // The absolute terms the gate reads besides the classifier's p, measured at the pose.
 struct GateTerms {
-  double overlap = 1.0;         // CorAl's overlap fraction
+  double overlap = 1.0;  // CorAl's overlap fraction
+  // Q at the pose (Eq. 5) [nats]; -infinity = not measured (never rejects)
+  double quality = -std::numeric_limits<double>::infinity();
   FreeSpaceResult free_space;   // invalid = not measured (never rejects)
   ConstraintResult constraint;  // invalid = not measured (never rejects)
 };
-GateTerms gateTerms(const AlignmentVerdict& v);  // {v.coral.overlap, v.free_space, v.constraint}
+GateTerms gateTerms(const AlignmentVerdict& v);  // v.coral's overlap and Q, free space, constraint
 
 // Combines the opinions as `method` says (used by judgeAlignment and by evaluation); the
 // gate (kGated) reads the classifier's p and `terms`.
