@@ -269,34 +269,75 @@ TEST(CoralCheckLoopClosure, LivoxRevisitAcceptedAndWrongPosesRejected) {
   }
 }
 
+namespace {
+
+// The ACES benchmark loop relations as they are (no registrations) and lidar_2d's loop
+// verdict, for the tests below that drive `coral_check --loop_closure` with them.
+struct AcesLoops {
+  coral_introspection::ros_adapters::NodeConfig node;
+  coral_introspection::online::IntrospectorConfig loop;
+  CarmenLoopSet set;
+};
+void loadAcesLoops(const std::string& aces_dir, AcesLoops* out) {
+  coral_test::loadPreset("lidar_2d", &out->node);
+  LoopCandidateConfig cfg = evaluationCandidates(2, out->node.online.verdict.tolerance);
+  cfg.max_radius_candidates = 0;  // the relations as they are
+  cfg.max_lookalike_pairs = 1;
+  std::string err;
+  ASSERT_TRUE(
+      loadCarmenLoopSet(aces_dir + "/aces.clf.bz2",
+                        coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
+                        aces_dir + "/aces.relations", cfg, 30, 10, &out->set, &err))
+      << err;
+  out->loop = out->node.online;
+  out->loop.verdict = loopClosureVerdict(out->node.online.verdict);
+}
+
+// `coral_check --config lidar_2d.yaml --loop_closure` on relation c's scans at pose T.
+CheckRun checkLoop(const CarmenLoopSet& set, const LoopCandidate& c, const Eigen::Isometry3d& T) {
+  const std::string a = tempPath("cc_loop_a", ".pcd"), b = tempPath("cc_loop_b", ".pcd"),
+                    t = tempPath("cc_loop_t", ".txt");
+  writePcd(a, set.rel_scans[c.a].scan.points);
+  writePcd(b, set.rel_scans[c.b].scan.points);
+  writeMatrix(t, T);
+  return runCheck("--config " + coral_test::sourceDir() +
+                  "/config/lidar_2d.yaml --loop_closure --a " + a + " --b " + b +
+                  " --transform_file " + t);
+}
+
+// The JSON line's "refined_transform" (12 numbers, 3x4 row-major); false when absent.
+bool refinedTransform(const std::string& out, Eigen::Isometry3d* T) {
+  const std::string key = "\"refined_transform\": [";
+  const std::size_t open = out.find(key);
+  if (open == std::string::npos) return false;
+  std::string nums = out.substr(open + key.size(), out.find(']', open) - open - key.size());
+  std::replace(nums.begin(), nums.end(), ',', ' ');
+  std::istringstream in(nums);
+  *T = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 4; ++k) in >> T->matrix()(i, k);
+  return !in.fail();
+}
+
+}  // namespace
+
 // The loop gate's refinement through the pinned interface: an ACES benchmark loop relation
 // moved 0.2 m along b's x (within the 0.3 m tolerance, rejected at that pose) is rejected by
 // `coral_check --loop_closure` under lidar_2d with its refined pose offered, as in-process;
 // the JSON's refined_transform is that pose, within the tolerance of the relation.
 TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
   CORAL_REQUIRE_DATA("radish_aces");
-  coral_introspection::ros_adapters::NodeConfig node;
-  coral_test::loadPreset("lidar_2d", &node);
-  LoopCandidateConfig cfg = evaluationCandidates(2, node.online.verdict.tolerance);
-  cfg.max_radius_candidates = 0;  // the relations as they are
-  cfg.max_lookalike_pairs = 1;
-  CarmenLoopSet set;
-  std::string err;
-  ASSERT_TRUE(
-      loadCarmenLoopSet(coral_data + "/aces.clf.bz2",
-                        coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
-                        coral_data + "/aces.relations", cfg, 30, 10, &set, &err))
-      << err;
-  coral_introspection::online::IntrospectorConfig loop = node.online;
-  loop.verdict = loopClosureVerdict(node.online.verdict);
+  AcesLoops aces;
+  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
   const Eigen::Isometry3d off = se2(0.2, 0.0, 0.0);
   // The first relation (file order) whose refined pose is offered: chosen by the code under test,
   // then checked through the tool.
   const LoopCandidate* pick = nullptr;
   AlignmentVerdict in_process;
-  for (const LoopCandidate& c : set.revisits) {
-    in_process = coral_introspection::online::judgePair(
-                     set.rel_scans[c.a].scan, set.rel_scans[c.b].scan, c.T_a_b * off, loop, false)
+  for (const LoopCandidate& c : aces.set.revisits) {
+    in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
+                                                        aces.set.rel_scans[c.b].scan, c.T_a_b * off,
+                                                        aces.loop, false)
                      .verdict;
     if (in_process.refined) {
       pick = &c;
@@ -304,29 +345,14 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
     }
   }
   ASSERT_NE(pick, nullptr) << "no ACES relation with a refined pose offered";
-  const std::string a = tempPath("cc_aces_a", ".pcd"), b = tempPath("cc_aces_b", ".pcd"),
-                    t = tempPath("cc_aces_t", ".txt");
-  writePcd(a, set.rel_scans[pick->a].scan.points);
-  writePcd(b, set.rel_scans[pick->b].scan.points);
-  writeMatrix(t, pick->T_a_b * off);
-  const CheckRun r =
-      runCheck("--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml --loop_closure --a " +
-               a + " --b " + b + " --transform_file " + t);
+  const CheckRun r = checkLoop(aces.set, *pick, pick->T_a_b * off);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;  // the given pose is 0.2 m off
   EXPECT_NE(field(r.out, "rejected_by").find("passes"), std::string::npos) << r.out;
   EXPECT_GT(std::stod(field(r.out, "refinement")), 0.0) << r.out;
   EXPECT_LE(std::stod(field(r.out, "refinement")), 0.5 + 1e-6) << r.out;
-  // refined_transform: 12 numbers, 3x4 row-major.
-  const std::size_t open = r.out.find("\"refined_transform\": [");
-  ASSERT_NE(open, std::string::npos) << r.out;
-  std::string nums = r.out.substr(open + 22, r.out.find(']', open) - open - 22);
-  std::replace(nums.begin(), nums.end(), ',', ' ');
-  std::istringstream in(nums);
-  Eigen::Isometry3d refined = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 4; ++k) in >> refined.matrix()(i, k);
-  ASSERT_FALSE(in.fail()) << nums;
+  Eigen::Isometry3d refined;
+  ASSERT_TRUE(refinedTransform(r.out, &refined)) << r.out;
   // Within the tolerance of the relation (the verdict's promise; this pair's walk went partly
   // sideways: 0.285 m. How often the refined pose is closer than the given one is
   // test_loop_closure's figure: 150 of 155).
@@ -345,32 +371,21 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
 // offered, give that pose: the in-process one, closer to the relation than the given pose.
 TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestartCheck) {
   CORAL_REQUIRE_DATA("radish_aces");
-  coral_introspection::ros_adapters::NodeConfig node;
-  coral_test::loadPreset("lidar_2d", &node);
-  ASSERT_TRUE(node.online.verdict.loop_closure.restarts);
-  LoopCandidateConfig cfg = evaluationCandidates(2, node.online.verdict.tolerance);
-  cfg.max_radius_candidates = 0;  // the relations as they are
-  cfg.max_lookalike_pairs = 1;
-  CarmenLoopSet set;
-  std::string err;
-  ASSERT_TRUE(
-      loadCarmenLoopSet(coral_data + "/aces.clf.bz2",
-                        coral_test::dataDir() + "/radish_intel/aces_corrected_poses_on_raw.csv",
-                        coral_data + "/aces.relations", cfg, 30, 10, &set, &err))
-      << err;
-  coral_introspection::online::IntrospectorConfig loop = node.online;
-  loop.verdict = loopClosureVerdict(node.online.verdict);
-  const double two_tol = 2.0 * node.online.verdict.tolerance.translation;
+  AcesLoops aces;
+  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
+  ASSERT_TRUE(aces.node.online.verdict.loop_closure.restarts);
+  const double two_tol = 2.0 * aces.node.online.verdict.tolerance.translation;
   // Chosen by the code under test (test_loop_closure counts 1 such relation of 220 x 4 moves).
   const LoopCandidate* pick = nullptr;
   Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
   AlignmentVerdict in_process;
-  for (const LoopCandidate& c : set.revisits) {
+  for (const LoopCandidate& c : aces.set.revisits) {
     if (c.source != "relation") continue;
     for (const Eigen::Isometry3d& d : {se2(two_tol, 0.0, 0.0), se2(-two_tol, 0.0, 0.0),
                                        se2(0.0, two_tol, 0.0), se2(0.0, -two_tol, 0.0)}) {
-      in_process = coral_introspection::online::judgePair(
-                       set.rel_scans[c.a].scan, set.rel_scans[c.b].scan, c.T_a_b * d, loop, false)
+      in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
+                                                          aces.set.rel_scans[c.b].scan, c.T_a_b * d,
+                                                          aces.loop, false)
                        .verdict;
       if (in_process.restart.better_elsewhere) {
         pick = &c;
@@ -382,28 +397,15 @@ TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestart
   }
   ASSERT_NE(pick, nullptr) << "no ACES relation moved 2 tolerances that the restart check rejects";
   EXPECT_FALSE(in_process.aligned);
-  const std::string a = tempPath("cc_restart_a", ".pcd"), b = tempPath("cc_restart_b", ".pcd"),
-                    t = tempPath("cc_restart_t", ".txt");
-  writePcd(a, set.rel_scans[pick->a].scan.points);
-  writePcd(b, set.rel_scans[pick->b].scan.points);
-  writeMatrix(t, pick->T_a_b * off);
-  const CheckRun r =
-      runCheck("--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml --loop_closure --a " +
-               a + " --b " + b + " --transform_file " + t);
+  const CheckRun r = checkLoop(aces.set, *pick, pick->T_a_b * off);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;
   EXPECT_NE(field(r.out, "rejected_by").find("restarts:"), std::string::npos) << r.out;
   EXPECT_LE(std::stod(field(r.out, "probability")), 0.5) << r.out;
-  const std::size_t open = r.out.find("\"refined_transform\": [");
-  EXPECT_EQ(open != std::string::npos, in_process.refined) << r.out;
-  if (open == std::string::npos) return;
-  std::string nums = r.out.substr(open + 22, r.out.find(']', open) - open - 22);
-  std::replace(nums.begin(), nums.end(), ',', ' ');
-  std::istringstream in(nums);
-  Eigen::Isometry3d better = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 4; ++k) in >> better.matrix()(i, k);
-  ASSERT_FALSE(in.fail()) << nums;
+  Eigen::Isometry3d better;
+  const bool offered = refinedTransform(r.out, &better);
+  EXPECT_EQ(offered, in_process.refined) << r.out;
+  if (!offered) return;
   // The in-process pose (PCD stores floats: to a millimetre), closer to the relation.
   EXPECT_LT((better.inverse() * in_process.restart.T_a_b).translation().norm(), 1e-3);
   EXPECT_LT((pick->T_a_b.inverse() * better).translation().norm(), two_tol - 1e-3) << r.out;
