@@ -18,7 +18,7 @@
 set -euo pipefail
 REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 source "${REPO}/scripts/env.sh"  # system python first, the compiler cache (coral_launcher_args)
-WS="${CORAL_WS:-${HOME}/.cache/coral_introspection/ws}"
+WS="${CORAL_WS}"  # env.sh sets it (default ~/.cache/coral_introspection/ws)
 WORK="${CORAL_MUTATION_DIR:-${WS}_mutation}"
 SRC="${WORK}/coral_introspection"  # no ../shared/data beside it: the data is absent
 BUILD="${WORK}/build"
