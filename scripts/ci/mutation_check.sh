@@ -42,6 +42,7 @@ MUTATIONS=(
   "refinement walks past its bound@src/coral/refinement.cpp@if \(toleranceSize\(delta, tol\) > bound\) continue;@if (false) continue;@test_refinement"
   "restart check takes a higher Q for a better one@src/coral/restart_check.cpp@!\(w\.quality < best_q\)@!(w.quality > best_q)@test_restart_check"
   "gate max_quality compared the wrong way@src/coral/verdict.cpp@terms\.quality > gate\.max_quality@terms.quality < gate.max_quality@test_relative_check"
+  "registration from the pose accepted past its bound@src/coral/restart_check.cpp@out\.size <= max_size@true@test_restart_check"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).

@@ -58,5 +58,21 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
   return out;
 }
 
+NearbyAlignment registeredNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                 const ToleranceConfig& tolerance, const RegistrationConfig& cfg,
+                                 double max_size,
+                                 const std::function<bool(const Eigen::Isometry3d&)>& accepts) {
+  NearbyAlignment out;
+  out.run = true;
+  const SurfaceTarget target(pair.points(0), pair.config(), cfg);
+  const RegistrationResult r = target.align(pair.points(1), T_a_b);
+  if (!r.usable(cfg)) return out;
+  out.usable = true;
+  out.T_a_b = r.T_a_b;
+  out.size = toleranceSize(T_a_b.inverse() * r.T_a_b, tolerance);
+  out.accepted = out.size <= max_size && accepts(r.T_a_b);
+  return out;
+}
+
 }  // namespace coral
 }  // namespace coral_introspection

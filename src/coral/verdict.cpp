@@ -48,6 +48,8 @@ std::string GateConfig::validate() const {
                relative_margin)
       .require(max_refinement >= 0.0 && max_refinement <= 1.0, "max_refinement",
                "in [0, 1] tolerances, 0 = off", max_refinement)
+      .require(max_registered_offset >= 0.0 && max_registered_offset < 1.0, "max_registered_offset",
+               "in [0, 1) tolerances, 0 = off", max_registered_offset)
       .str();
 }
 
@@ -240,6 +242,33 @@ void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const 
                                : "not offered: classifier p " +
                                      number(best.classifier.probability) + " below its threshold");
 }
+
+// Gate max_registered_offset on verdict v, rejected at T_a_b: registered once from the pose
+// (restart_check.hpp registeredNearby). True when the registered pose, within the bound, passes
+// the verdict (restart check included) and the classifier says aligned there: v is then
+// "aligned" with that pose offered.
+bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
+                  AlignmentVerdict* v) {
+  AlignmentVerdict w;
+  v->nearby = registeredNearby(pair, T_a_b, cfg.tolerance, cfg.restart.registration,
+                               cfg.gate.max_registered_offset, [&](const Eigen::Isometry3d& T) {
+                                 w = judgeAtPose(pair, T, cfg);
+                                 if (cfg.gate.restarts && w.valid && w.aligned)
+                                   checkRestarts(pair, T, cfg, &w);
+                                 return refinedPoseAccepted(w);
+                               });
+  const NearbyAlignment& n = v->nearby;
+  if (!n.accepted) return false;
+  v->aligned = v->refined = true;
+  v->probability = w.probability;
+  v->rejected_by.clear();
+  v->refinement.valid = true;
+  v->refinement.delta = T_a_b.inverse() * n.T_a_b;
+  v->refinement.size = n.size;
+  v->refinement.q_start = v->coral.quality;
+  v->refinement.q_end = w.coral.quality;
+  return true;
+}
 }  // namespace
 
 AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
@@ -249,6 +278,9 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
     checkRestarts(pair, T_a_b, cfg, &v);
     return v;
   }
+  if (cfg.method == VerdictMethod::kGated && cfg.gate.max_registered_offset > 0.0 && v.valid &&
+      !v.aligned && acceptNearby(pair, T_a_b, cfg, &v))
+    return v;
   if (!refinementApplies(v, cfg)) return v;
   v.refinement =
       refinePose(pair, T_a_b, pair.config().dimension, cfg.tolerance, cfg.gate.max_refinement);

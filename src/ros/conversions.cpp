@@ -270,7 +270,7 @@ AlignmentQuality toMessage(const coral::AlignmentVerdict& v, const coral::Verdic
   m.correction_hint = v.relative.hint.name;
   m.correction = toTransformMsg(v.relative.hint.name.empty() ? Eigen::Isometry3d::Identity()
                                                              : v.relative.hint.delta);
-  if (v.refined) {  // a loop closure's refined pose passes: offered (the verdict stays)
+  if (v.refined) {  // a loop closure's refined or registered pose passes: offered
     m.correction_hint = "refined";
     m.correction = toTransformMsg(v.refinement.delta);
     m.refinement = v.refinement.size;

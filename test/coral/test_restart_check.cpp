@@ -3,7 +3,10 @@
 // registered from half a metre off, b comes back to the true pose; a candidate registered
 // 1 m off is rejected and the check returns the true pose; the true pose stands (the restarts
 // come back to it or end worse); through judgeAlignment the loop verdict rejects the 1 m
-// candidate and offers the true pose; bad settings are refused.
+// candidate and offers the true pose; bad settings are refused. The loop gate's
+// max_registered_offset (registeredNearby): a candidate a fraction of the tolerance off,
+// rejected at its pose, is registered back to the true pose and accepted with it offered; one
+// a full tolerance off is not.
 #include <gtest/gtest.h>
 
 #include "coral_introspection/coral/restart_check.hpp"
@@ -150,6 +153,82 @@ TEST(RestartCheck, TheLoopVerdictRejectsTheMetreOffCandidateAndOffersTheTruePose
   EXPECT_FALSE(plain.restart.run);
 }
 
+TEST(NearbyAlignment, RegistersFromThePoseAndMeasuresHowFarItMoved) {
+  YardCheck s;
+  const coral::RegistrationConfig reg;
+  int asked = 0;
+  auto yes = [&](const Eigen::Isometry3d&) { return ++asked > 0; };
+  // 0.12 m off (0.4 tolerances): registered back to the true pose, which is judged once.
+  const Eigen::Isometry3d near = s.p.T_a_b * se2(0.12, 0.0, 0.0);
+  coral::NearbyAlignment n =
+      coral::registeredNearby(*s.pair, near, s.judge.tolerance, reg, 0.5, yes);
+  EXPECT_TRUE(n.run && n.usable);
+  EXPECT_TRUE(n.accepted);
+  EXPECT_EQ(asked, 1);
+  expectNear(n.T_a_b, s.p.T_a_b, 0.03, 0.3);
+  EXPECT_NEAR(n.size, 0.4, 0.1);  // [tolerances] how far the registration moved it
+  // The judge says no: not accepted, the registration is still reported.
+  n = coral::registeredNearby(*s.pair, near, s.judge.tolerance, reg, 0.5,
+                              [&](const Eigen::Isometry3d&) { return false; });
+  EXPECT_TRUE(n.usable);
+  EXPECT_FALSE(n.accepted);
+  // A full tolerance off: the registration moves it about a tolerance, past the bound, and the
+  // pose it reached is not even judged.
+  asked = 0;
+  n = coral::registeredNearby(*s.pair, s.p.T_a_b * se2(0.0, -0.3, 0.0), s.judge.tolerance, reg, 0.5,
+                              yes);
+  EXPECT_TRUE(n.usable);
+  EXPECT_NEAR(n.size, 1.0, 0.1);
+  EXPECT_FALSE(n.accepted);
+  EXPECT_EQ(asked, 0);
+  // Nothing to register onto: no pose, not accepted.
+  n = coral::registeredNearby(*s.pair, se2(500.0, 0.0, 0.0), s.judge.tolerance, reg, 0.5, yes);
+  EXPECT_FALSE(n.usable || n.accepted);
+}
+
+// Through the loop verdict: a candidate rejected at its pose (here by the gate's Q bound, set
+// between Q at the true pose and Q at the candidate) and registered back within half a
+// tolerance is accepted, the registered pose offered; a candidate a tolerance off stays
+// rejected; with the bound at 0 nothing is registered.
+TEST(NearbyAlignment, TheLoopVerdictAcceptsACandidateThatRegistersBackWithinTheBound) {
+  YardCheck s;
+  coral::VerdictConfig loop = s.judge;
+  loop.method = coral::VerdictMethod::kGated;
+  loop.classifier.threshold = 0.0;  // any p "aligned": decided by Q and the registration
+  const Eigen::Isometry3d near = s.p.T_a_b * se2(0.0, 0.12, 0.0);
+  const Eigen::Isometry3d far = s.p.T_a_b * se2(0.3, 0.0, 0.0);
+  const double q_true = s.pair->evaluate(s.p.T_a_b).quality;
+  const double q_near = s.pair->evaluate(near).quality;
+  ASSERT_LT(q_true, q_near);
+  loop.gate.max_quality = 0.5 * (q_true + q_near);
+  coral::AlignmentVerdict v = coral::judgeAlignment(*s.pair, near, loop);
+  ASSERT_TRUE(v.valid);
+  EXPECT_FALSE(v.aligned);  // bound 0: rejected at its pose, nothing registered
+  EXPECT_NE(v.rejected_by.find("gate: Q"), std::string::npos) << v.rejected_by;
+  EXPECT_FALSE(v.nearby.run);
+  loop.gate.max_registered_offset = 0.5;
+  v = coral::judgeAlignment(*s.pair, near, loop);
+  EXPECT_TRUE(v.valid && v.aligned) << v.rejected_by;
+  EXPECT_TRUE(v.rejected_by.empty());
+  EXPECT_TRUE(v.nearby.accepted);
+  ASSERT_TRUE(v.refined);  // the registered pose is offered
+  expectNear(near * v.refinement.delta, s.p.T_a_b, 0.03, 0.3);
+  EXPECT_NEAR(v.refinement.size, 0.4, 0.1);
+  EXPECT_LT(v.refinement.q_end, loop.gate.max_quality);
+  // A tolerance off: registered back a tolerance, past the bound: rejected, nothing offered
+  // by this term.
+  const coral::AlignmentVerdict f = coral::judgeAlignment(*s.pair, far, loop);
+  ASSERT_TRUE(f.valid);
+  EXPECT_FALSE(f.aligned);
+  EXPECT_TRUE(f.nearby.usable);
+  EXPECT_GT(f.nearby.size, 0.5);
+  EXPECT_FALSE(f.nearby.accepted);
+  // The true pose is accepted at the pose: no registration.
+  const coral::AlignmentVerdict t = coral::judgeAlignment(*s.pair, s.p.T_a_b, loop);
+  EXPECT_TRUE(t.valid && t.aligned);
+  EXPECT_FALSE(t.nearby.run);
+}
+
 TEST(RestartCheck, RefusesBadSettings) {
   EXPECT_EQ(coral::RestartConfig().validate(), "");
   auto refused = [](const coral::RestartConfig& c, const char* field) {
@@ -184,6 +263,13 @@ TEST(RestartCheck, RefusesBadSettings) {
   c.registration.robust_scale = -0.1;
   refused(c, "robust_scale");
   coral::VerdictConfig v;
+  for (double bad : {-0.1, 1.0}) {  // a tolerance off registered back must stay rejected
+    v.loop_closure.max_registered_offset = bad;
+    EXPECT_NE(v.validate().find("loop_closure: max_registered_offset"), std::string::npos)
+        << v.validate();
+  }
+  v.loop_closure.max_registered_offset = 0.99;
+  EXPECT_EQ(v.validate(), "");
   v.restart.directions = 0;
   refused(v.restart, "directions");
   EXPECT_NE(v.validate().find("restart: directions"), std::string::npos) << v.validate();

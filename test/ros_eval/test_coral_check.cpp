@@ -339,7 +339,7 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
                                                         aces.set.rel_scans[c.b].scan, c.T_a_b * off,
                                                         aces.loop, false)
                      .verdict;
-    if (in_process.refined) {
+    if (in_process.refined && !in_process.aligned) {  // offered, not accepted (see below)
       pick = &c;
       break;
     }
@@ -361,6 +361,53 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
   EXPECT_LT(
       (refined.inverse() * pick->T_a_b * off * in_process.refinement.delta).translation().norm(),
       1e-3);
+}
+
+// The loop gate's registration from the pose through the pinned interface: the first ACES
+// benchmark loop relation (file order) that, moved 0.2 m along b's x or y (within the 0.3 m
+// tolerance), the lidar_2d loop verdict rejects at that pose and accepts because a registration
+// from it ends within loop_closure/max_registered_offset (0.5 tolerances) at a pose the
+// verdict accepts (coral/restart_check.hpp registeredNearby). `coral_check --loop_closure`
+// must accept it with nothing in rejected_by and give that pose as refined_transform: the
+// in-process one, closer to the relation than the given pose.
+TEST(CoralCheckLoopClosure, AcesRelationLeftShortIsAcceptedWhenItRegistersBackWithinTheBound) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  AcesLoops aces;
+  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
+  const double bound = aces.node.online.verdict.loop_closure.max_registered_offset;
+  ASSERT_GT(bound, 0.0);
+  // Chosen by the code under test (test_loop_closure counts 4 such of 220).
+  const LoopCandidate* pick = nullptr;
+  Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
+  AlignmentVerdict in_process;
+  for (const LoopCandidate& c : aces.set.revisits) {
+    if (c.source != "relation") continue;
+    for (const Eigen::Isometry3d& d : {se2(0.2, 0.0, 0.0), se2(0.0, 0.2, 0.0)}) {
+      in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
+                                                          aces.set.rel_scans[c.b].scan, c.T_a_b * d,
+                                                          aces.loop, false)
+                       .verdict;
+      if (in_process.nearby.accepted) {
+        pick = &c;
+        off = d;
+        break;
+      }
+    }
+    if (pick != nullptr) break;
+  }
+  ASSERT_NE(pick, nullptr) << "no ACES relation moved 0.2 m that registers back within the bound";
+  EXPECT_TRUE(in_process.aligned);
+  const CheckRun r = checkLoop(aces.set, *pick, pick->T_a_b * off);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(field(r.out, "aligned"), "true") << r.out;
+  EXPECT_EQ(field(r.out, "rejected_by"), "\"\"") << r.out;
+  EXPECT_GT(std::stod(field(r.out, "refinement")), 0.0) << r.out;
+  EXPECT_LE(std::stod(field(r.out, "refinement")), bound + 1e-6) << r.out;
+  Eigen::Isometry3d registered;
+  ASSERT_TRUE(refinedTransform(r.out, &registered)) << r.out;
+  // The in-process pose (PCD stores floats: to a millimetre), closer to the relation.
+  EXPECT_LT((registered.inverse() * in_process.nearby.T_a_b).translation().norm(), 1e-3);
+  EXPECT_LT((pick->T_a_b.inverse() * registered).translation().norm(), 0.2 - 1e-3) << r.out;
 }
 
 // The loop gate's restart check through the pinned interface: the first ACES benchmark loop

@@ -66,5 +66,31 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
                                        const ToleranceConfig& tolerance, const RestartConfig& cfg,
                                        const PoseJudge& judge);
 
+// A loop candidate the verdict rejects at its pose, registered once from that pose (the loop
+// gate's max_registered_offset, verdict.hpp). A back end's ICP that stopped 0.15-0.3 m short
+// of a true revisit (point-to-point ICP on 2D scans, doc/loop_closure.md) is within the
+// tolerance, yet rejected at its pose: the relative check finds a lower Q one tolerance on and
+// the classifier, trained on exact poses, a low p. The verdict's promise is about the size of
+// the error, and a registration from the pose measures it: it converges into the nearby
+// minimum, a few centimetres wide, that Q's probes step over. When that pose is within
+// max_size (< 1) tolerances and the loop verdict accepts it there, the given pose is within
+// the tolerance of an alignment the verdict accepts.
+struct NearbyAlignment {
+  bool run = false;       // registered (the verdict rejected a valid candidate at its pose)
+  bool usable = false;    // the registration gave a pose (RegistrationResult::usable)
+  bool accepted = false;  // usable, within max_size tolerances, and `accepts` said yes there
+  Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  // the registered pose
+  double size = 0.0;  // its distance from the candidate's pose [tolerances] (toleranceSize)
+};
+
+// Registers pair.points(1) onto pair.points(0) from T_a_b (SurfaceTarget, cfg) and, when the
+// result is usable and within max_size tolerances of T_a_b, asks `accepts` about it (called
+// at most once). Preconditions: cfg.validate() and tolerance.validate() are empty. Never
+// throws.
+NearbyAlignment registeredNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
+                                 const ToleranceConfig& tolerance, const RegistrationConfig& cfg,
+                                 double max_size,
+                                 const std::function<bool(const Eigen::Isometry3d&)>& accepts);
+
 }  // namespace coral
 }  // namespace coral_introspection

@@ -76,6 +76,14 @@ struct GateConfig {
   // registration stopped off the revisit along repeated structure. That pose is offered as
   // a refined one (AlignmentVerdict::refined) when the classifier also says aligned there.
   bool restarts = false;
+  // [tolerances] loop closures only: a candidate rejected at its pose is registered once from
+  // it (restart_check.hpp registeredNearby, VerdictConfig::restart.registration); when the
+  // registration ends within this many tolerances at a pose this verdict accepts (with its
+  // restart check) and the classifier says aligned there (refinedPoseAccepted), the candidate
+  // is accepted: its pose is within the tolerance of an accepted alignment, which is offered
+  // (AlignmentVerdict::refined). In [0, 1): a pose off by a full tolerance, registered back,
+  // ends a tolerance away and stays rejected. 0 = off. Tried before max_refinement.
+  double max_registered_offset = 0.0;
   std::string validate() const;  // empty when valid
 };
 
@@ -126,6 +134,9 @@ struct AlignmentVerdict {
   // Gate `restarts` and accepted at the given pose: the second registration. When it found a
   // better alignment, the verdict is "misaligned" and refinement.delta leads to that pose.
   RestartResult restart;
+  // Gate max_registered_offset > 0 and rejected at the given pose: the registration from it.
+  // nearby.accepted: the verdict is "aligned" and refinement.delta leads to nearby.T_a_b.
+  NearbyAlignment nearby;
 };
 
 // A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *

@@ -31,6 +31,10 @@ coral::AlignmentVerdict decide(const std::string& gate, const coral::AlignmentVe
                           coral::gateTerms(v));
     // The loop gate's restart check (coral_loop_eval runs it when the preset turns it on).
     if (v.aligned && v_both.restart.better_elsewhere) v.aligned = false;
+    // Rejected at the pose, accepted at the pose registered from it within the loop gate's
+    // max_registered_offset (judged there by the whole loop verdict, whatever this gate leaves
+    // out).
+    if (!v.aligned && v_both.nearby.accepted) v.aligned = true;
   } else if (gate == "relative") {
     coral::combineVerdict(coral::VerdictMethod::kRelative, v.classifier, v.relative, cfg.relative,
                           &v);
@@ -53,7 +57,11 @@ bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
   if (gate == "oracle") return c.is_true;
   if (gate == "all") return true;
   if (gate.rfind("fitness<=", 0) == 0) return c.converged && c.fitness <= std::stod(gate.substr(9));
-  if (accepts(decide(gate, v_both, cfg))) return true;
+  if (accepts(decide(gate, v_both, cfg))) {
+    // Accepted at the registered pose: a back end that adds offered poses adds that one.
+    if (refined) *refined = gate == "refined" && v_both.nearby.accepted && v_refined != nullptr;
+    return true;
+  }
   // As coral::judgeAlignment offers it (coral::refinedPoseAccepted on the loop gate's verdict).
   if (gate != "refined" || !v_refined || !coral::refinedPoseAccepted(decide(gate, *v_refined, cfg)))
     return false;

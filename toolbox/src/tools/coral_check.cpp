@@ -209,7 +209,8 @@ int main(int argc, char** argv) {
   if (out.verdict.constraint.valid)
     std::snprintf(cs, sizeof cs, "%.6f", out.verdict.constraint.weakest);
   // A loop closure rejected at its pose whose refined pose passes (loop_closure/max_refinement,
-  // or the better alignment loop_closure/restarts found): that pose, 3x4 row-major as
+  // or the better alignment loop_closure/restarts found), or accepted at the pose registered
+  // from the given one (loop_closure/max_registered_offset): that pose, 3x4 row-major as
   // --transform_file reads it; null otherwise.
   std::string refined = "null";
   if (out.verdict.refined) {

@@ -79,17 +79,21 @@ struct Judged {
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // node_b in node_a's frame
   // The loop verdict rejected at the pose and the gate refines (loop_closure/max_refinement),
   // or accepted there and the restart check found a better alignment (loop_closure/restarts,
-  // in v.restart): the evaluation at that pose (method kBoth) and the edge through it.
+  // in v.restart), or accepted at the pose registered from the given one
+  // (loop_closure/max_registered_offset, in v.nearby): the evaluation at that pose (method
+  // kBoth) and the edge through it.
   bool has_refined = false;
   coral::AlignmentVerdict v_refined;
   Eigen::Isometry3d T_edge_refined = Eigen::Isometry3d::Identity();
 };
 
-// One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, when
-// the loop verdict rejects it there and the preset's loop gate refines, the evaluation at
-// the pose coral::refinePose reaches; when the verdict accepts it and the loop gate restarts,
-// the restart check (in j.v.restart) and the evaluation at the better alignment it found: as
-// coral::judgeAlignment does for the loop verdict.
+// One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, as
+// coral::judgeAlignment does for the loop verdict: when the verdict accepts it there and the
+// loop gate restarts, the restart check (in j.v.restart) and the evaluation at the better
+// alignment it found; when the verdict rejects it there, the registration from the pose
+// (loop_closure/max_registered_offset, in j.v.nearby; the evaluation at the registered pose
+// when the verdict accepts it there) and else the evaluation at the pose coral::refinePose
+// reaches (loop_closure/max_refinement).
 Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const coral::Scan& b,
                       const online::IntrospectorConfig& judge_cfg,
                       const coral::VerdictConfig& verdict) {
@@ -97,30 +101,53 @@ Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const 
   j.c = c;
   const online::PairJudgement pj = online::judgePair(a, b, c.T_a_b, judge_cfg, false);
   j.v = pj.verdict;
-  const bool accepted = j.v.valid && eval::loopGateAccepts("verdict", c, j.v, verdict);
-  if (accepted && pj.prepared && verdict.loop_closure.restarts) {
-    j.v.restart = coral::betterAlignmentElsewhere(
-        *pj.prepared, c.T_a_b, {true, j.v.coral.quality, j.v.coral.overlap}, verdict.tolerance,
-        verdict.restart, [&](const Eigen::Isometry3d& T) {
-          const coral::AlignmentVerdict w =
-              coral::judgeAlignment(*pj.prepared, T, judge_cfg.verdict);
-          return coral::JudgedPose{eval::loopGateAccepts("verdict", c, w, verdict), w.coral.quality,
-                                   w.coral.overlap};
+  if (!pj.prepared || !j.v.valid) return j;
+  const coral::GateConfig& gate = verdict.loop_closure;
+  auto judgeAt = [&](const Eigen::Isometry3d& T) {
+    return coral::judgeAlignment(*pj.prepared, T, judge_cfg.verdict);
+  };
+  // The restart check of a pose the loop verdict accepts, judged there as w.
+  auto restartCheck = [&](const Eigen::Isometry3d& T, const coral::AlignmentVerdict& w) {
+    return coral::betterAlignmentElsewhere(
+        *pj.prepared, T, {true, w.coral.quality, w.coral.overlap}, verdict.tolerance,
+        verdict.restart, [&](const Eigen::Isometry3d& T2) {
+          const coral::AlignmentVerdict w2 = judgeAt(T2);
+          return coral::JudgedPose{eval::loopGateAccepts("verdict", c, w2, verdict),
+                                   w2.coral.quality, w2.coral.overlap};
         });
-    if (!j.v.restart.better_elsewhere) return j;
+  };
+  // Which pose is refined: delta from the candidate's pose and its size [tolerances].
+  auto refineTo = [&](const Eigen::Isometry3d& T, double size) {
     j.has_refined = true;
-    j.v_refined = coral::judgeAlignment(*pj.prepared, j.v.restart.T_a_b, judge_cfg.verdict);
-    j.v_refined.refinement.delta = c.T_a_b.inverse() * j.v.restart.T_a_b;
-    j.v_refined.refinement.size = j.v.restart.distance;
+    j.v_refined = judgeAt(T);
+    j.v_refined.refinement.delta = c.T_a_b.inverse() * T;
+    j.v_refined.refinement.size = size;
+  };
+  if (eval::loopGateAccepts("verdict", c, j.v, verdict)) {
+    if (!gate.restarts) return j;
+    j.v.restart = restartCheck(c.T_a_b, j.v);
+    if (j.v.restart.better_elsewhere) refineTo(j.v.restart.T_a_b, j.v.restart.distance);
     return j;
   }
-  const double max_refinement = verdict.loop_closure.max_refinement;
-  if (max_refinement <= 0.0 || !pj.prepared || !j.v.valid || accepted) return j;
+  if (gate.max_registered_offset > 0.0) {
+    j.v.nearby = coral::registeredNearby(
+        *pj.prepared, c.T_a_b, verdict.tolerance, verdict.restart.registration,
+        gate.max_registered_offset, [&](const Eigen::Isometry3d& T) {
+          const coral::AlignmentVerdict w = judgeAt(T);
+          return eval::loopGateAccepts("verdict", c, w, verdict) && w.classifier.aligned &&
+                 !(gate.restarts && restartCheck(T, w).better_elsewhere);
+        });
+    if (j.v.nearby.accepted) {
+      refineTo(j.v.nearby.T_a_b, j.v.nearby.size);
+      return j;
+    }
+  }
+  if (gate.max_refinement <= 0.0) return j;
   const coral::PoseRefinement r = coral::refinePose(
-      *pj.prepared, c.T_a_b, judge_cfg.coral.dimension, verdict.tolerance, max_refinement);
+      *pj.prepared, c.T_a_b, judge_cfg.coral.dimension, verdict.tolerance, gate.max_refinement);
   if (!(r.size > 0.0)) return j;
   j.has_refined = true;
-  j.v_refined = coral::judgeAlignment(*pj.prepared, c.T_a_b * r.delta, judge_cfg.verdict);
+  j.v_refined = judgeAt(c.T_a_b * r.delta);
   j.v_refined.refinement = r;
   return j;
 }
@@ -244,7 +271,7 @@ int main(int argc, char** argv) {
            "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
            "constraint,refinement,refined_accepted,refined_classifier_p,refined_relative_score,"
            "refined_q,refined_overlap,refined_constraint,refined_free_space,restart_better,"
-           "restart_distance,restart_q\n";
+           "restart_distance,restart_q,nearby_size,nearby_accepted\n";
     for (const Judged* j : table) {
       const eval::LoopCandidate& c = j->c;
       const coral::AlignmentVerdict& v = j->v;
@@ -262,7 +289,9 @@ int main(int argc, char** argv) {
       out << w.classifier.probability << ',' << w.relative.score << ',' << w.coral.quality << ','
           << w.coral.overlap << ',' << w.constraint.weakest << ',' << w.free_space.conflict << ',';
       const coral::RestartResult& r = j->v.restart;  // zeros when not run
-      out << r.better_elsewhere << ',' << r.distance << ',' << r.q << "\n";
+      out << r.better_elsewhere << ',' << r.distance << ',' << r.q << ',';
+      const coral::NearbyAlignment& n = j->v.nearby;  // zeros when not run
+      out << n.size << ',' << n.accepted << "\n";
     }
   }
 

@@ -29,11 +29,12 @@ const std::vector<std::string>& loopGateNames();
 // Whether `gate` (one of loopGateNames()) accepts candidate c whose CorAl evaluation is
 // v_both (method kBoth), with the preset's verdict configuration cfg; the verdict gates
 // also reject it when v_both.restart found a better alignment elsewhere (the loop gate's
-// restart check, run by the caller). v_refined: the same
-// evaluation at the candidate's refined pose (coral::refinePose within the loop gate's
-// max_refinement) when the verdict rejects at the pose; gate `refined` accepts the candidate
-// there when the verdict would offer it (coral::refinedPoseAccepted) and sets *refined (the
-// edge is then the refined pose).
+// restart check, run by the caller) and accept it when v_both.nearby was accepted (the loop
+// gate's max_registered_offset, run by the caller). v_refined: the same evaluation at the
+// candidate's refined pose (coral::refinePose within the loop gate's max_refinement, or the
+// registered pose of v_both.nearby) when the verdict rejects at the pose; gate `refined`
+// accepts the candidate there when the verdict would offer it (coral::refinedPoseAccepted)
+// and sets *refined (the edge is then the refined pose).
 bool loopGateAccepts(const std::string& gate, const LoopCandidate& c,
                      const coral::AlignmentVerdict& v_both, const coral::VerdictConfig& cfg,
                      const coral::AlignmentVerdict* v_refined = nullptr, bool* refined = nullptr);
