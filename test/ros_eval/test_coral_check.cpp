@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "coral_introspection/eval/carmen_loops.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
@@ -319,6 +321,43 @@ bool refinedTransform(const std::string& out, Eigen::Isometry3d* T) {
   return !in.fail();
 }
 
+// The first ACES loop relation (file order) that, moved by one of `offsets` in b's frame, the
+// lidar_2d loop verdict judges in-process as `wanted` says: chosen by the code under test, then
+// driven through the tool. relation is null when there is none.
+struct MovedRelation {
+  const LoopCandidate* relation = nullptr;
+  Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
+  AlignmentVerdict in_process;
+};
+MovedRelation findMovedRelation(const AcesLoops& aces,
+                                const std::vector<Eigen::Isometry3d>& offsets,
+                                const std::function<bool(const AlignmentVerdict&)>& wanted) {
+  MovedRelation m;
+  for (const LoopCandidate& c : aces.set.revisits) {
+    if (c.source != "relation") continue;
+    for (const Eigen::Isometry3d& d : offsets) {
+      m.in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
+                                                            aces.set.rel_scans[c.b].scan,
+                                                            c.T_a_b * d, aces.loop, false)
+                         .verdict;
+      if (wanted(m.in_process)) {
+        m.relation = &c;
+        m.off = d;
+        return m;
+      }
+    }
+  }
+  return MovedRelation();
+}
+
+// `coral_check --config lidar_2d.yaml --loop_closure` on the moved relation m (`what` names it
+// when there is none): a JSON line with status 0.
+void checkMoved(const AcesLoops& aces, const MovedRelation& m, const char* what, CheckRun* r) {
+  ASSERT_NE(m.relation, nullptr) << "no ACES relation " << what;
+  *r = checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off);
+  ASSERT_EQ(r->status, 0) << r->err;
+}
+
 }  // namespace
 
 // The loop gate's refinement through the pinned interface: an ACES benchmark loop relation
@@ -329,24 +368,12 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
   CORAL_REQUIRE_DATA("radish_aces");
   AcesLoops aces;
   ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
-  const Eigen::Isometry3d off = se2(0.2, 0.0, 0.0);
-  // The first relation (file order) whose refined pose is offered: chosen by the code under test,
-  // then checked through the tool.
-  const LoopCandidate* pick = nullptr;
-  AlignmentVerdict in_process;
-  for (const LoopCandidate& c : aces.set.revisits) {
-    in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
-                                                        aces.set.rel_scans[c.b].scan, c.T_a_b * off,
-                                                        aces.loop, false)
-                     .verdict;
-    if (in_process.refined && !in_process.aligned) {  // offered, not accepted (see below)
-      pick = &c;
-      break;
-    }
-  }
-  ASSERT_NE(pick, nullptr) << "no ACES relation with a refined pose offered";
-  const CheckRun r = checkLoop(aces.set, *pick, pick->T_a_b * off);
-  ASSERT_EQ(r.status, 0) << r.err;
+  // The first relation whose refined pose is offered, not accepted (see below).
+  const MovedRelation m =
+      findMovedRelation(aces, {se2(0.2, 0.0, 0.0)},
+                        [](const AlignmentVerdict& v) { return v.refined && !v.aligned; });
+  CheckRun r;
+  ASSERT_NO_FATAL_FAILURE(checkMoved(aces, m, "with a refined pose offered", &r));
   EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;  // the given pose is 0.2 m off
   EXPECT_NE(field(r.out, "rejected_by").find("passes"), std::string::npos) << r.out;
   EXPECT_GT(std::stod(field(r.out, "refinement")), 0.0) << r.out;
@@ -356,11 +383,12 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortGetsItsRefinedPoseOffered) {
   // Within the tolerance of the relation (the verdict's promise; this pair's walk went partly
   // sideways: 0.285 m. How often the refined pose is closer than the given one is
   // test_loop_closure's figure: 150 of 155).
-  EXPECT_LT((pick->T_a_b.inverse() * refined).translation().norm(), 0.3) << r.out;
+  EXPECT_LT((m.relation->T_a_b.inverse() * refined).translation().norm(), 0.3) << r.out;
   // The same pose as the verdict in-process (PCD stores floats: to a millimetre).
-  EXPECT_LT(
-      (refined.inverse() * pick->T_a_b * off * in_process.refinement.delta).translation().norm(),
-      1e-3);
+  EXPECT_LT((refined.inverse() * m.relation->T_a_b * m.off * m.in_process.refinement.delta)
+                .translation()
+                .norm(),
+            1e-3);
 }
 
 // The loop gate's registration from the pose through the pinned interface: the first ACES
@@ -377,28 +405,13 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortIsAcceptedWhenItRegistersBackWi
   const double bound = aces.node.online.verdict.loop_closure.max_registered_offset;
   ASSERT_GT(bound, 0.0);
   // Chosen by the code under test (test_loop_closure counts 4 such of 220).
-  const LoopCandidate* pick = nullptr;
-  Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
-  AlignmentVerdict in_process;
-  for (const LoopCandidate& c : aces.set.revisits) {
-    if (c.source != "relation") continue;
-    for (const Eigen::Isometry3d& d : {se2(0.2, 0.0, 0.0), se2(0.0, 0.2, 0.0)}) {
-      in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
-                                                          aces.set.rel_scans[c.b].scan, c.T_a_b * d,
-                                                          aces.loop, false)
-                       .verdict;
-      if (in_process.nearby.accepted) {
-        pick = &c;
-        off = d;
-        break;
-      }
-    }
-    if (pick != nullptr) break;
-  }
-  ASSERT_NE(pick, nullptr) << "no ACES relation moved 0.2 m that registers back within the bound";
-  EXPECT_TRUE(in_process.aligned);
-  const CheckRun r = checkLoop(aces.set, *pick, pick->T_a_b * off);
-  ASSERT_EQ(r.status, 0) << r.err;
+  const MovedRelation m =
+      findMovedRelation(aces, {se2(0.2, 0.0, 0.0), se2(0.0, 0.2, 0.0)},
+                        [](const AlignmentVerdict& v) { return v.nearby.accepted; });
+  CheckRun r;
+  ASSERT_NO_FATAL_FAILURE(
+      checkMoved(aces, m, "moved 0.2 m that registers back within the bound", &r));
+  EXPECT_TRUE(m.in_process.aligned);
   EXPECT_EQ(field(r.out, "aligned"), "true") << r.out;
   EXPECT_EQ(field(r.out, "rejected_by"), "\"\"") << r.out;
   EXPECT_GT(std::stod(field(r.out, "refinement")), 0.0) << r.out;
@@ -406,8 +419,8 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortIsAcceptedWhenItRegistersBackWi
   Eigen::Isometry3d registered;
   ASSERT_TRUE(refinedTransform(r.out, &registered)) << r.out;
   // The in-process pose (PCD stores floats: to a millimetre), closer to the relation.
-  EXPECT_LT((registered.inverse() * in_process.nearby.T_a_b).translation().norm(), 1e-3);
-  EXPECT_LT((pick->T_a_b.inverse() * registered).translation().norm(), 0.2 - 1e-3) << r.out;
+  EXPECT_LT((registered.inverse() * m.in_process.nearby.T_a_b).translation().norm(), 1e-3);
+  EXPECT_LT((m.relation->T_a_b.inverse() * registered).translation().norm(), 0.2 - 1e-3) << r.out;
 }
 
 // The loop gate's restart check through the pinned interface: the first ACES benchmark loop
@@ -423,37 +436,23 @@ TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestart
   ASSERT_TRUE(aces.node.online.verdict.loop_closure.restarts);
   const double two_tol = 2.0 * aces.node.online.verdict.tolerance.translation;
   // Chosen by the code under test (test_loop_closure counts 1 such relation of 220 x 4 moves).
-  const LoopCandidate* pick = nullptr;
-  Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
-  AlignmentVerdict in_process;
-  for (const LoopCandidate& c : aces.set.revisits) {
-    if (c.source != "relation") continue;
-    for (const Eigen::Isometry3d& d : {se2(two_tol, 0.0, 0.0), se2(-two_tol, 0.0, 0.0),
-                                       se2(0.0, two_tol, 0.0), se2(0.0, -two_tol, 0.0)}) {
-      in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
-                                                          aces.set.rel_scans[c.b].scan, c.T_a_b * d,
-                                                          aces.loop, false)
-                       .verdict;
-      if (in_process.restart.better_elsewhere) {
-        pick = &c;
-        off = d;
-        break;
-      }
-    }
-    if (pick != nullptr) break;
-  }
-  ASSERT_NE(pick, nullptr) << "no ACES relation moved 2 tolerances that the restart check rejects";
-  EXPECT_FALSE(in_process.aligned);
-  const CheckRun r = checkLoop(aces.set, *pick, pick->T_a_b * off);
-  ASSERT_EQ(r.status, 0) << r.err;
+  const MovedRelation m =
+      findMovedRelation(aces,
+                        {se2(two_tol, 0.0, 0.0), se2(-two_tol, 0.0, 0.0), se2(0.0, two_tol, 0.0),
+                         se2(0.0, -two_tol, 0.0)},
+                        [](const AlignmentVerdict& v) { return v.restart.better_elsewhere; });
+  CheckRun r;
+  ASSERT_NO_FATAL_FAILURE(
+      checkMoved(aces, m, "moved 2 tolerances that the restart check rejects", &r));
+  EXPECT_FALSE(m.in_process.aligned);
   EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;
   EXPECT_NE(field(r.out, "rejected_by").find("restarts:"), std::string::npos) << r.out;
   EXPECT_LE(std::stod(field(r.out, "probability")), 0.5) << r.out;
   Eigen::Isometry3d better;
   const bool offered = refinedTransform(r.out, &better);
-  EXPECT_EQ(offered, in_process.refined) << r.out;
+  EXPECT_EQ(offered, m.in_process.refined) << r.out;
   if (!offered) return;
   // The in-process pose (PCD stores floats: to a millimetre), closer to the relation.
-  EXPECT_LT((better.inverse() * in_process.restart.T_a_b).translation().norm(), 1e-3);
-  EXPECT_LT((pick->T_a_b.inverse() * better).translation().norm(), two_tol - 1e-3) << r.out;
+  EXPECT_LT((better.inverse() * m.in_process.restart.T_a_b).translation().norm(), 1e-3);
+  EXPECT_LT((m.relation->T_a_b.inverse() * better).translation().norm(), two_tol - 1e-3) << r.out;
 }
