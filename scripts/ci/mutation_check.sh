@@ -43,6 +43,7 @@ MUTATIONS=(
   "restart check takes a higher Q for a better one@src/coral/restart_check.cpp@!\(w\.quality < best_q\)@!(w.quality > best_q)@test_restart_check"
   "gate max_quality compared the wrong way@src/coral/verdict.cpp@terms\.quality > gate\.max_quality@terms.quality < gate.max_quality@test_relative_check"
   "registration from the pose accepted past its bound@src/coral/restart_check.cpp@out\.size <= max_size@true@test_restart_check"
+  "constraint counts a denser scanner's points whole@src/coral/constraint.cpp@steps\[steps\.size\(\) / 2\] / reference_step_deg;@1.0;@test_constraint"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).

@@ -82,6 +82,23 @@ double weakestDirection(const std::vector<Shared>& pts, int dim, double k) {
 
 }  // namespace
 
+double beamSpacingShare(const Points& own, double reference_step_deg) {
+  if (!(reference_step_deg > 0.0)) return 1.0;
+  std::vector<double> bearings;  // [deg], about the scan's own origin
+  for (const Vec3& p : own)
+    if (p.allFinite() && p.head<2>().squaredNorm() > 0.0)
+      bearings.push_back(std::atan2(p.y(), p.x()) * 180.0 / M_PI);
+  std::sort(bearings.begin(), bearings.end());
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < bearings.size(); ++i)
+    if (bearings[i] - bearings[i - 1] > kMinBeamStepDeg)
+      steps.push_back(bearings[i] - bearings[i - 1]);
+  if (steps.size() < 10) return 1.0;  // too few to tell: counted as they are
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double share = steps[steps.size() / 2] / reference_step_deg;
+  return std::abs(share - 1.0) < 0.1 ? 1.0 : share;
+}
+
 bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight,
                    double* spread) {
   *normal = Vec3::Zero();
@@ -105,7 +122,8 @@ bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, doub
 
 ConstraintResult registrationConstraint(const Points& a, const Points& b,
                                         const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,
-                                        const ToleranceConfig& tolerance) {
+                                        const ToleranceConfig& tolerance,
+                                        double reference_beam_step_deg) {
   ConstraintResult res;
   Points fa, fb;  // finite points only (the grid's precondition), b's in a's frame
   for (const Vec3& p : a)
@@ -118,8 +136,12 @@ ConstraintResult registrationConstraint(const Points& a, const Points& b,
   const std::vector<Shared> sb = sharedPoints(grid, fb, 1, fa.size(), coral);
   res.valid = true;
   res.points = static_cast<int>(sa.size() + sb.size());
-  res.weakest =
-      std::min(weakestDirection(sa, coral.dimension, k), weakestDirection(sb, coral.dimension, k));
+  // 2D: in points at the reference beam spacing (a denser scanner's points count their share).
+  const bool scaled = coral.dimension == 2 && reference_beam_step_deg > 0.0;
+  const double share_a = scaled ? beamSpacingShare(a, reference_beam_step_deg) : 1.0;
+  const double share_b = scaled ? beamSpacingShare(b, reference_beam_step_deg) : 1.0;
+  res.weakest = std::min(share_a * weakestDirection(sa, coral.dimension, k),
+                         share_b * weakestDirection(sb, coral.dimension, k));
   return res;
 }
 

@@ -43,6 +43,8 @@ std::string GateConfig::validate() const {
                "in [0, 1], 1 = off", max_free_space)
       .require(min_constraint >= 0.0, "min_constraint", ">= 0 tolerances^2, 0 = off",
                min_constraint)
+      .require(constraint_beam_step_deg >= 0.0 && constraint_beam_step_deg <= 10.0,
+               "constraint_beam_step_deg", "in [0, 10] deg, 0 = off", constraint_beam_step_deg)
       .require(!std::isnan(max_quality), "max_quality", "a number of nats, .inf = off", max_quality)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
@@ -198,8 +200,8 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
     v.free_space = freeSpaceConflict(pair.points(0), pair.origin(0), pair.points(1), pair.origin(1),
                                      T_a_b, coral.dimension, cfg.free_space);
   if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms)
-    v.constraint =
-        registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral, cfg.tolerance);
+    v.constraint = registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral,
+                                          cfg.tolerance, cfg.gate.constraint_beam_step_deg);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }

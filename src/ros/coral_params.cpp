@@ -63,12 +63,15 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("gate/min_overlap", &o.verdict.gate.min_overlap) &&
       r.get("gate/max_free_space", &o.verdict.gate.max_free_space) &&
       r.get("gate/min_constraint", &o.verdict.gate.min_constraint) &&
+      r.get("gate/constraint_beam_step_deg", &o.verdict.gate.constraint_beam_step_deg) &&
       r.get("gate/max_quality", &o.verdict.gate.max_quality) &&
       r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
       r.get("loop_closure/min_overlap", &o.verdict.loop_closure.min_overlap) &&
       r.get("loop_closure/relative_margin", &o.verdict.loop_closure.relative_margin) &&
       r.get("loop_closure/max_free_space", &o.verdict.loop_closure.max_free_space) &&
       r.get("loop_closure/min_constraint", &o.verdict.loop_closure.min_constraint) &&
+      r.get("loop_closure/constraint_beam_step_deg",
+            &o.verdict.loop_closure.constraint_beam_step_deg) &&
       r.get("loop_closure/max_quality", &o.verdict.loop_closure.max_quality) &&
       r.get("loop_closure/max_refinement", &o.verdict.loop_closure.max_refinement) &&
       r.get("loop_closure/restarts", &o.verdict.loop_closure.restarts) &&

@@ -174,12 +174,15 @@ std::string describe(const NodeConfig& c) {
     << "\ngate.min_overlap = " << c.online.verdict.gate.min_overlap
     << "\ngate.max_free_space = " << c.online.verdict.gate.max_free_space
     << "\ngate.min_constraint = " << c.online.verdict.gate.min_constraint
+    << "\ngate.constraint_beam_step_deg = " << c.online.verdict.gate.constraint_beam_step_deg
     << "\ngate.max_quality = " << c.online.verdict.gate.max_quality
     << "\nloop_closure.min_probability = " << c.online.verdict.loop_closure.min_probability
     << "\nloop_closure.min_overlap = " << c.online.verdict.loop_closure.min_overlap
     << "\nloop_closure.relative_margin = " << c.online.verdict.loop_closure.relative_margin
     << "\nloop_closure.max_free_space = " << c.online.verdict.loop_closure.max_free_space
     << "\nloop_closure.min_constraint = " << c.online.verdict.loop_closure.min_constraint
+    << "\nloop_closure.constraint_beam_step_deg = "
+    << c.online.verdict.loop_closure.constraint_beam_step_deg
     << "\nloop_closure.max_quality = " << c.online.verdict.loop_closure.max_quality
     << "\nloop_closure.max_refinement = " << c.online.verdict.loop_closure.max_refinement
     << "\nloop_closure.restarts = " << c.online.verdict.loop_closure.restarts

@@ -53,6 +53,10 @@ struct GateConfig {
   // piece of wall are consistent at many poses: a registration that stopped at the wrong one
   // passes CorAl, the classifier and the free-space term alike.
   double min_constraint = 0.0;
+  // [deg] 2D: the beam spacing min_constraint is stated for; the constraint of a scan of
+  // another spacing counts its points by their share (constraint.hpp beamSpacingShare), so
+  // a denser scanner does not pass the bound on half the geometry. 0 = points as they are.
+  double constraint_beam_step_deg = 0.0;
   // [nats] Q at the pose (Eq. 5: H_joint - H_sep) must not exceed this; infinity = off.
   // Registration leaves a look-alike place at a local minimum of Q, where the relative check
   // says aligned, but that minimum can lie high: the two places' surfaces lie near each
