@@ -137,9 +137,9 @@ ConstraintResult registrationConstraint(const Points& a, const Points& b,
   res.valid = true;
   res.points = static_cast<int>(sa.size() + sb.size());
   // 2D: in points at the reference beam spacing (a denser scanner's points count their share).
-  const bool scaled = coral.dimension == 2 && reference_beam_step_deg > 0.0;
-  const double share_a = scaled ? beamSpacingShare(a, reference_beam_step_deg) : 1.0;
-  const double share_b = scaled ? beamSpacingShare(b, reference_beam_step_deg) : 1.0;
+  const bool planar = coral.dimension == 2;
+  const double share_a = planar ? beamSpacingShare(a, reference_beam_step_deg) : 1.0;
+  const double share_b = planar ? beamSpacingShare(b, reference_beam_step_deg) : 1.0;
   res.weakest = std::min(share_a * weakestDirection(sa, coral.dimension, k),
                          share_b * weakestDirection(sb, coral.dimension, k));
   return res;

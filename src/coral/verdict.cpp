@@ -206,11 +206,20 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   return v;
 }
 
-// Whether judgeAlignment refines after verdict v at the given pose: method kGated with
-// gate.max_refinement > 0, and v judged misaligned.
-bool refinementApplies(const AlignmentVerdict& v, const VerdictConfig& cfg) {
-  return cfg.method == VerdictMethod::kGated && cfg.gate.max_refinement > 0.0 && v.valid &&
-         !v.aligned;
+// Whether verdict v at the given pose is a rejection of the gated verdict, after which
+// judgeAlignment may look for a nearby pose (gate max_registered_offset, max_refinement).
+bool gatedRejection(const AlignmentVerdict& v, const VerdictConfig& cfg) {
+  return cfg.method == VerdictMethod::kGated && v.valid && !v.aligned;
+}
+
+// v's refinement leads from T_a_b to T, size tolerances away, Q q_start there and q_end at T.
+void setRefinement(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T, double size,
+                   double q_start, double q_end, AlignmentVerdict* v) {
+  v->refinement.valid = true;
+  v->refinement.delta = T_a_b.inverse() * T;
+  v->refinement.size = size;
+  v->refinement.q_start = q_start;
+  v->refinement.q_end = q_end;
 }
 
 // Gate `restarts` on verdict v, accepted at T_a_b: registered again from other starts
@@ -230,11 +239,7 @@ void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const 
   // The local terms still say aligned; at most 0.5 so that the probability does not read
   // as a confident "aligned" for a rejected candidate.
   v->probability = std::min(v->probability, 0.5);
-  v->refinement.valid = true;
-  v->refinement.delta = T_a_b.inverse() * r.T_a_b;
-  v->refinement.size = r.distance;
-  v->refinement.q_start = r.q_candidate;
-  v->refinement.q_end = r.q;
+  setRefinement(T_a_b, r.T_a_b, r.distance, r.q_candidate, r.q, v);
   v->refined = refinedPoseAccepted(best);
   v->rejected_by = "restarts: registered again from " + std::to_string(r.starts) +
                    " starts, a pose " + number(r.distance) + " tolerances away passes with Q " +
@@ -264,11 +269,7 @@ bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const V
   v->aligned = v->refined = true;
   v->probability = w.probability;
   v->rejected_by.clear();
-  v->refinement.valid = true;
-  v->refinement.delta = T_a_b.inverse() * n.T_a_b;
-  v->refinement.size = n.size;
-  v->refinement.q_start = v->coral.quality;
-  v->refinement.q_end = w.coral.quality;
+  setRefinement(T_a_b, n.T_a_b, n.size, v->coral.quality, w.coral.quality, v);
   return true;
 }
 }  // namespace
@@ -280,10 +281,9 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
     checkRestarts(pair, T_a_b, cfg, &v);
     return v;
   }
-  if (cfg.method == VerdictMethod::kGated && cfg.gate.max_registered_offset > 0.0 && v.valid &&
-      !v.aligned && acceptNearby(pair, T_a_b, cfg, &v))
-    return v;
-  if (!refinementApplies(v, cfg)) return v;
+  if (!gatedRejection(v, cfg)) return v;
+  if (cfg.gate.max_registered_offset > 0.0 && acceptNearby(pair, T_a_b, cfg, &v)) return v;
+  if (!(cfg.gate.max_refinement > 0.0)) return v;
   v.refinement =
       refinePose(pair, T_a_b, pair.config().dimension, cfg.tolerance, cfg.gate.max_refinement);
   if (!(v.refinement.size > 0.0)) return v;  // Q has no lower pose within reach

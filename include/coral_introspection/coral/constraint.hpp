@@ -40,6 +40,16 @@ struct ConstraintResult {
 bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight,
                    double* spread = nullptr);
 
+// The term counts points: a 2D scanner with twice the beams per degree sees twice the points
+// on the same wall and would pass a bound chosen on the other at half the geometry (lidar_2d's
+// was chosen on 180-beam scans of 1 deg spacing: Intel, ACES). A planar scan's beam spacing is
+// the median step between its points' sorted bearings about its origin (its sensor frame); its
+// share is that step over reference_step_deg: 1 within 10 % of it (a scanner of the
+// reference spacing keeps its values exactly), for fewer than 11 distinct bearings, and for
+// reference_step_deg <= 0.
+constexpr double kMinBeamStepDeg = 1e-4;  // [deg] bearings closer than this are one beam
+double beamSpacingShare(const Points& own, double reference_step_deg);
+
 // a and b each in their own sensor frame, b moved into a's frame by T_a_b (as
 // freeSpaceConflict takes them). A point is shared when it has
 // coral.min_neighbours points of its own scan and coral.min_neighbours_other of the other
@@ -51,16 +61,6 @@ bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, doub
 // 3D clouds. 2D with reference_beam_step_deg > 0: each scan's value is multiplied by
 // beamSpacingShare(its points), so that it is in points at that beam spacing whatever the
 // scanner (0: points as they are). Never throws; non-finite points are skipped.
-// The term counts points: a 2D scanner with twice the beams per degree sees twice the points
-// on the same wall and would pass a bound chosen on the other at half the geometry (lidar_2d's
-// was chosen on 180-beam scans of 1 deg spacing: Intel, ACES). A planar scan's beam spacing is
-// the median step between its points' sorted bearings about its origin (its sensor frame); its
-// share is that step over reference_step_deg: 1 within 10 % of it (a scanner of the
-// reference spacing keeps its values exactly), for fewer than 11 distinct bearings, and for
-// reference_step_deg <= 0.
-constexpr double kMinBeamStepDeg = 1e-4;  // [deg] bearings closer than this are one beam
-double beamSpacingShare(const Points& own, double reference_step_deg);
-
 ConstraintResult registrationConstraint(const Points& a, const Points& b,
                                         const Eigen::Isometry3d& T_a_b, const CoralConfig& coral,
                                         const ToleranceConfig& tolerance,
