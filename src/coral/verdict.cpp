@@ -46,6 +46,10 @@ std::string GateConfig::validate() const {
       .require(constraint_beam_step_deg >= 0.0 && constraint_beam_step_deg <= 10.0,
                "constraint_beam_step_deg", "in [0, 10] deg, 0 = off", constraint_beam_step_deg)
       .require(!std::isnan(max_quality), "max_quality", "a number of nats, .inf = off", max_quality)
+      .require(coarse_levels >= 0 && coarse_levels <= 4, "coarse_levels",
+               "in [0, 4] (probes up to 16 tolerances away), 0 = off", coarse_levels)
+      .require(coarse_margin >= 0.0 && std::isfinite(coarse_margin), "coarse_margin", ">= 0 nats",
+               coarse_margin)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
       .require(max_refinement >= 0.0 && max_refinement <= 1.0, "max_refinement",
@@ -95,7 +99,7 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 }
 
 GateTerms gateTerms(const AlignmentVerdict& v) {
-  return {v.coral.overlap, v.coral.quality, v.free_space, v.constraint};
+  return {v.coral.overlap, v.coral.quality, v.free_space, v.constraint, v.coarse};
 }
 
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
@@ -137,6 +141,12 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
       out->aligned = !relative.misaligned;
       if (relative.misaligned) {
         out->rejected_by = relativeRejection(relative, cfg);
+      } else if (terms.coarse.valid && terms.coarse.drop() > gate.coarse_margin) {
+        out->aligned = false;
+        out->rejected_by = "gate: coarse probe: Q " + number(terms.coarse.drop()) +
+                           " nats lower at " + terms.coarse.lowest.name +
+                           " (a minimum of Q past the CorAl radius: off by more than the "
+                           "tolerance)";
       } else if (classifier.probability < gate.min_probability) {
         out->aligned = false;
         out->rejected_by = "gate: " + p_words + " < " + number(gate.min_probability) +
@@ -202,6 +212,12 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms)
     v.constraint = registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral,
                                           cfg.tolerance, cfg.gate.constraint_beam_step_deg);
+  // Not when the relative check already rejects (its probes cost 2 x axes x levels).
+  if ((cfg.gate.coarse_levels > 0 || cfg.gate.coarse_registration) && rel_needed &&
+      (!v.relative.misaligned || cfg.measure_gate_terms))
+    v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
+                           cfg.gate.coarse_levels,
+                           cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }

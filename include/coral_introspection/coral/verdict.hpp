@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "coral_introspection/coral/classifier.hpp"
+#include "coral_introspection/coral/coarse_probe.hpp"
 #include "coral_introspection/coral/constraint.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/coral_pair.hpp"
@@ -63,6 +64,19 @@ struct GateConfig {
   // other without coinciding. CorAl's own absolute test (a threshold on Q) as a loose bound
   // beside the classifier's (which weighs H_joint and H_sep apart).
   double max_quality = std::numeric_limits<double>::infinity();
+  // [-] coarse probe (coarse_probe.hpp): Q is evaluated 2, 4, ... 2^coarse_levels tolerances
+  // away along each axis, both ways, and a quarter and half turn about z away; the pose is
+  // rejected when one of them has Q lower by more than coarse_margin: the pose sits on a local
+  // minimum of Q past the CorAl radius that the relative check's one-tolerance steps cannot leave
+  // (most 2D errors of 2 tolerances or more that passed the other terms,
+  // doc/verdict_every_error.md). 0 = off, at most 4. Costs 2 x axes x levels + 3 probe evaluations
+  // (probe queries) per verdict.
+  int coarse_levels = 0;
+  // The coarse probe also registers b onto a once from the pose (VerdictConfig::restart's
+  // registration) and probes the result when it lies a tolerance or more away: errors between
+  // the steps' sizes land off the narrow minimum of Q at the truth, a registration into it.
+  bool coarse_registration = false;
+  double coarse_margin = 0.02;  // [nats] Q of a coarse probe must lie this far below the pose's
   // [-] loop closures only (loopClosureVerdict): the relative check's margin for these pairs;
   // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
@@ -121,6 +135,8 @@ struct AlignmentVerdict {
   FreeSpaceResult free_space;
   // Measured when gate.min_constraint > 0 (whatever the method); invalid otherwise.
   ConstraintResult constraint;
+  // Measured when gate.coarse_levels > 0 and the method runs the relative check.
+  CoarseProbeResult coarse;
   bool valid = false;    // a verdict was reached
   bool aligned = false;  // not misaligned by the tolerance or more
   // Classifier p (Eq. 9); relative: relativeProbability(); both: the smaller of the two.
@@ -154,8 +170,10 @@ struct GateTerms {
   double quality = -std::numeric_limits<double>::infinity();
   FreeSpaceResult free_space;   // invalid = not measured (never rejects)
   ConstraintResult constraint;  // invalid = not measured (never rejects)
+  CoarseProbeResult coarse;     // invalid = not measured (never rejects)
 };
-GateTerms gateTerms(const AlignmentVerdict& v);  // v.coral's overlap and Q, free space, constraint
+// v.coral's overlap and Q, free space, constraint, coarse probe
+GateTerms gateTerms(const AlignmentVerdict& v);
 
 // Combines the opinions as `method` says (used by judgeAlignment and by evaluation); the
 // gate (kGated) reads the classifier's p and `terms`.

@@ -6,14 +6,15 @@
 namespace coral_introspection {
 namespace eval {
 
-std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension) {
+std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension,
+                                    const std::vector<double>& multiples) {
   std::vector<SweepError> out;
   SweepError gt;
   gt.label = "ground truth";
   gt.ground_truth = true;
   out.push_back(gt);
   // k tolerances: the relative check's offsets (tolerance.hpp) of a k times larger tolerance.
-  for (double k : sweepMultiples())
+  for (double k : multiples)
     for (const coral::ToleranceOffset& o :
          coral::toleranceOffsets({k * tol.translation, k * tol.rotation_deg}, dimension)) {
       SweepError e;
@@ -48,7 +49,8 @@ std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimen
 
 std::string errorSweepCsvHeader() {
   return "dataset,pair,error,axis,multiple,magnitude,ground_truth,valid,aligned,probability,"
-         "classifier_p,relative_score,relative_misaligned,q,h_joint,h_sep,overlap,num_queries";
+         "classifier_p,relative_score,relative_misaligned,q,h_joint,h_sep,overlap,num_queries,"
+         "flat_axes,free_space,constraint,coarse_drop,coarse_step,registered_size";
 }
 
 std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepError& e,
@@ -60,7 +62,9 @@ std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepEr
     << e.magnitude << ',' << e.ground_truth << ',' << v.valid << ',' << v.aligned << ','
     << v.probability << ',' << v.classifier.probability << ',' << v.relative.score << ','
     << v.relative.misaligned << ',' << v.coral.quality << ',' << v.coral.h_joint << ','
-    << v.coral.h_sep << ',' << v.coral.overlap << ',' << v.coral.num_queries;
+    << v.coral.h_sep << ',' << v.coral.overlap << ',' << v.coral.num_queries << ','
+    << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ',' << v.constraint.weakest
+    << ',' << v.coarse.drop() << ',' << v.coarse.lowest.name << ',' << v.coarse.registered_size;
   return s.str();
 }
 

@@ -4,16 +4,18 @@
 // right for every error size). One CSV row per (pair, error) with the verdict and the terms
 // behind it, so decision rules can be compared offline; a summary per error size on stderr.
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
-//       [--stride N] [--out FILE.csv]
+//       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)] [--out FILE.csv]
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
 // "right": ground truth accepted (a valid, aligned verdict), an error not accepted (misaligned
 // or no verdict, e.g. no overlap left). Exit 0 on success, 2 with a message for bad arguments
 // or unreadable data.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -29,7 +31,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
-    "[--out FILE.csv]";
+    "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] [--out FILE.csv]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
 
@@ -39,8 +41,8 @@ int main(int argc, char** argv) {
   eval::ToolArgs args;
   std::string err;
   int stride = 1;
-  if (!eval::parseToolArgs(argc, argv, {"--config", "--data", "--stride", "--out"}, {}, &args,
-                           &err) ||
+  if (!eval::parseToolArgs(argc, argv, {"--config", "--data", "--stride", "--multiples", "--out"},
+                           {}, &args, &err) ||
       !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
   if (args.help) {
@@ -48,6 +50,20 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::string config = args.get("--config"), out_path = args.get("--out");
+  // --multiples: error sizes off the default grid (the coarse probe steps 2, 4, 8 tolerances:
+  // errors between them are the test of it).
+  std::vector<double> multiples = eval::sweepMultiples();
+  if (args.has("--multiples")) {
+    multiples.clear();
+    std::stringstream list(args.get("--multiples"));
+    for (std::string item; std::getline(list, item, ',');) {
+      char* end = nullptr;
+      const double k = std::strtod(item.c_str(), &end);
+      if (item.empty() || *end != '\0' || !std::isfinite(k) || k < 1.0 || k > 100.0)
+        return fail("--multiples: '" + item + "' is not a number of tolerances in [1, 100]");
+      multiples.push_back(k);
+    }
+  }
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
   const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;
@@ -58,6 +74,7 @@ int main(int argc, char** argv) {
   // the preset's own method, combined from the same terms.
   online::IntrospectorConfig judge_cfg = node.online;
   judge_cfg.verdict.method = coral::VerdictMethod::kBoth;
+  judge_cfg.verdict.measure_gate_terms = true;  // free space and constraint in the CSV too
   std::ofstream file;
   if (!out_path.empty()) {
     file.open(out_path);
@@ -77,7 +94,7 @@ int main(int argc, char** argv) {
     eval::PairDataset d;
     if (!eval::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
     const std::vector<eval::SweepError> errors =
-        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension);
+        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension, multiples);
     for (std::size_t i = 0; i < d.pairs.size(); i += static_cast<std::size_t>(stride)) {
       const eval::ScanPair& p = d.pairs[i];
       for (const eval::SweepError& e : errors) {

@@ -271,7 +271,7 @@ int main(int argc, char** argv) {
            "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
            "constraint,refinement,refined_accepted,refined_classifier_p,refined_relative_score,"
            "refined_q,refined_overlap,refined_constraint,refined_free_space,restart_better,"
-           "restart_distance,restart_q,nearby_size,nearby_accepted\n";
+           "restart_distance,restart_q,nearby_size,nearby_accepted,coarse_drop,x,y,z,yaw_deg\n";
     for (const Judged* j : table) {
       const eval::LoopCandidate& c = j->c;
       const coral::AlignmentVerdict& v = j->v;
@@ -291,7 +291,12 @@ int main(int argc, char** argv) {
       const coral::RestartResult& r = j->v.restart;  // zeros when not run
       out << r.better_elsewhere << ',' << r.distance << ',' << r.q << ',';
       const coral::NearbyAlignment& n = j->v.nearby;  // zeros when not run
-      out << n.size << ',' << n.accepted << "\n";
+      out << n.size << ',' << n.accepted << ',' << v.coarse.drop() << ',';
+      // The candidate's transform (b in a's frame) as judged: coral_check --transform_file.
+      const Eigen::Vector3d t = c.T_a_b.translation();
+      const Eigen::Matrix3d R = c.T_a_b.rotation();
+      out << t.x() << ',' << t.y() << ',' << t.z() << ','
+          << std::atan2(R(1, 0), R(0, 0)) * 180.0 / M_PI << "\n";
     }
   }
 

@@ -39,7 +39,8 @@ inline const std::vector<double>& sweepYawDegrees() {
 // Ground truth first, then every axis x multiple x sign, then the fixed yaw angles (both
 // signs; 180 deg once). Fixed yaw angles below the rotation tolerance are left out (they are
 // not errors at that tolerance).
-std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension);
+std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension,
+                                    const std::vector<double>& multiples = sweepMultiples());
 
 // One CSV line per judged error: the verdict and the terms behind it.
 std::string errorSweepCsvHeader();

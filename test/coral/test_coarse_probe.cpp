@@ -1,0 +1,119 @@
+// The gated verdict's coarse probe (coarse_probe.hpp, GateConfig::coarse_levels and
+// coarse_registration): its steps, and on a ray-cast planar pair the errors past the CorAl
+// radius that the relative check and the classifier accept, rejected by it with the probe
+// that points back to the truth; ground truth kept.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "coral_introspection/coral/verdict.hpp"
+#include "support/yard_pair.hpp"
+
+using namespace coral_introspection::coral;
+using namespace coral_introspection::test;
+
+namespace {
+double yawOf(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
+
+VerdictConfig gated(int levels, bool registration) {
+  VerdictConfig v;
+  v.tolerance = ToleranceConfig::lidar2d();  // 0.3 m, 5 deg
+  v.method = VerdictMethod::kGated;
+  v.gate.coarse_levels = levels;
+  v.gate.coarse_registration = registration;
+  return v;
+}
+}  // namespace
+
+TEST(CoarseProbe, StepsDoubleLevelByLevelThenTurn) {
+  const ToleranceConfig tol = ToleranceConfig::lidar2d();
+  EXPECT_TRUE(coarseOffsets(tol, 2, 0).empty());
+  const std::vector<ToleranceOffset> o = coarseOffsets(tol, 2, 3);
+  ASSERT_EQ(o.size(), 3u * 6u + 3u);  // x, y, yaw both ways at 2, 4, 8 tolerances; 3 turns
+  EXPECT_EQ(o[0].name, "x+ x2");
+  EXPECT_NEAR(o[0].delta.translation().x(), 0.6, 1e-12);
+  EXPECT_EQ(o[9].name, "y- x4");
+  EXPECT_NEAR(o[9].delta.translation().y(), -1.2, 1e-12);
+  EXPECT_EQ(o[16].name, "yaw+ x8");
+  EXPECT_NEAR(yawOf(o[16].delta), 40.0 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(o[18].name, "yaw+ 90 deg");
+  EXPECT_NEAR(yawOf(o[19].delta), -M_PI / 2, 1e-12);
+  EXPECT_NEAR(std::abs(yawOf(o[20].delta)), M_PI, 1e-12);
+  EXPECT_EQ(coarseOffsets(tol, 3, 1).size(), 12u + 3u);
+}
+
+// Two tolerances (0.6 m, past the 0.5 m radius) along x and y: the pose is a local minimum of
+// Q for one-tolerance steps (the relative check and the classifier pass it), and the probe
+// two tolerances back lands on the truth.
+TEST(CoarseProbe, RejectsTwoTolerancesPastTheRadiusWithTheStepBack) {
+  const YardPair p = yardPair(1);
+  const CoralConfig coral = planarYardCoral();
+  const AlignmentVerdict gt = judgeAlignment(p.a, p.b, p.T_a_b, coral, gated(3, true));
+  ASSERT_TRUE(gt.valid);
+  EXPECT_TRUE(gt.aligned) << gt.rejected_by;
+  ASSERT_TRUE(gt.coarse.valid);
+  EXPECT_LT(gt.coarse.drop(), 0.0);  // every probe, and the registration, higher than the truth
+  EXPECT_LT(gt.coarse.registered_size, 0.5);  // registered from the truth: stays there
+  struct Case {
+    Eigen::Isometry3d delta;
+    const char* back;
+  };
+  for (const Case& c : {Case{se2(0.6, 0, 0), "x- x2"}, Case{se2(-0.6, 0, 0), "x+ x2"},
+                        Case{se2(0, 0.6, 0), "y- x2"}, Case{se2(0, -0.6, 0), "y+ x2"}}) {
+    const Eigen::Isometry3d T = p.T_a_b * c.delta;
+    const AlignmentVerdict off = judgeAlignment(p.a, p.b, T, coral, gated(0, false));
+    ASSERT_TRUE(off.valid);
+    EXPECT_TRUE(off.aligned) << c.back << ": without the probe the error passes";
+    EXPECT_FALSE(off.coarse.valid);  // not measured when off
+    const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, gated(3, false));
+    ASSERT_TRUE(v.valid);
+    EXPECT_FALSE(v.relative.misaligned) << c.back;
+    EXPECT_FALSE(v.aligned) << c.back;
+    EXPECT_EQ(v.coarse.lowest.name, c.back);
+    EXPECT_EQ(v.coarse.multiple, 2);
+    EXPECT_GT(v.coarse.drop(), 0.05);
+    EXPECT_NE(v.rejected_by.find("gate: coarse probe"), std::string::npos) << v.rejected_by;
+    EXPECT_NE(v.rejected_by.find(c.back), std::string::npos) << v.rejected_by;
+  }
+}
+
+// 2.5 tolerances (0.75 m) along x lies between the steps: the probes land half a tolerance
+// from the truth, where Q is still high, and the error passes them; registered from the pose,
+// b returns to the truth and the pose is rejected.
+TEST(CoarseProbe, RegistrationFromThePoseCatchesAnErrorBetweenTheSteps) {
+  const YardPair p = yardPair(1);
+  const CoralConfig coral = planarYardCoral();
+  const Eigen::Isometry3d T = p.T_a_b * se2(0.75, 0, 0);
+  const AlignmentVerdict steps = judgeAlignment(p.a, p.b, T, coral, gated(3, false));
+  ASSERT_TRUE(steps.valid);
+  EXPECT_TRUE(steps.aligned) << steps.rejected_by;
+  EXPECT_LT(steps.coarse.drop(), 0.0);
+  const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, gated(3, true));
+  ASSERT_TRUE(v.valid);
+  EXPECT_FALSE(v.aligned);
+  ASSERT_TRUE(v.coarse.registered);
+  EXPECT_NEAR(v.coarse.registered_size, 2.5, 0.5);
+  EXPECT_EQ(v.coarse.multiple, 0);
+  // The registered pose is the truth's, to a few centimetres.
+  const Eigen::Isometry3d back = T * v.coarse.lowest.delta;
+  EXPECT_LT((back.translation() - p.T_a_b.translation()).norm(), 0.05);
+  EXPECT_NE(v.rejected_by.find("registered from it"), std::string::npos) << v.rejected_by;
+  // A margin above the drop keeps the pose (the margin is what decides).
+  VerdictConfig loose = gated(3, true);
+  loose.gate.coarse_margin = v.coarse.drop() + 1e-9;
+  EXPECT_TRUE(judgeAlignment(p.a, p.b, T, coral, loose).aligned);
+}
+
+TEST(CoarseProbe, ConfigOutOfRangeIsRefusedAndNamed) {
+  VerdictConfig v = gated(3, true);
+  EXPECT_EQ(v.validate(), "");
+  v.gate.coarse_levels = 5;
+  EXPECT_NE(v.validate().find("coarse_levels"), std::string::npos);
+  v.gate.coarse_levels = -1;
+  EXPECT_NE(v.validate().find("coarse_levels"), std::string::npos);
+  v.gate.coarse_levels = 3;
+  v.loop_closure.coarse_margin = -0.01;
+  EXPECT_NE(v.validate().find("loop_closure"), std::string::npos);
+  v.loop_closure.coarse_margin = std::nan("");
+  EXPECT_NE(v.validate().find("coarse_margin"), std::string::npos);
+}
