@@ -2,12 +2,12 @@
 
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <string>
 
-#include "coral_introspection/coral/refinement.hpp"
-#include "coral_introspection/coral/registration.hpp"
 #include "coral_introspection/coral/relative_check.hpp"
+#include "coral_introspection/coral/restart_check.hpp"
 
 namespace coral_introspection {
 namespace coral {
@@ -25,7 +25,7 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
   }
   if (levels <= 0) return out;
   // Quarter and half turns about z (yaw): a corridor or a symmetric room seen turned round
-  // is a minimum of Q that no step of a few tolerances leaves (multiple 0: not a step size).
+  // is a minimum of Q that no step of a few tolerances leaves.
   for (double deg : {90.0, -90.0, 180.0}) {
     ToleranceOffset o;
     o.axis = Axis::kYaw;
@@ -44,40 +44,35 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
                               const RegistrationConfig* registration) {
   CoarseProbeResult r;
   if ((levels <= 0 && registration == nullptr) || !at_pose_probe.valid) return r;
+  r.q = at_pose_probe.quality;
+  // A probe with a lower Q than the lowest so far becomes the lowest.
+  auto consider = [&r](double q, const ToleranceOffset& step) {
+    if (!std::isfinite(q) || (r.valid && q >= r.lowest_q)) return;
+    r.valid = true;
+    r.lowest_q = q;
+    r.lowest = step;
+  };
   const std::vector<ToleranceOffset> offsets = coarseOffsets(tol, dimension, levels);
   const std::vector<double> q = neighbourQualities(pair, T_a_b, offsets);
-  r.q = at_pose_probe.quality;
-  r.coral_evaluations = static_cast<int>(offsets.size());
-  const std::size_t per_level = 2 * toleranceAxes(dimension).size();
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    if (!std::isfinite(q[i]) || (r.valid && q[i] >= r.lowest_q)) continue;
-    r.valid = true;
-    r.lowest_q = q[i];
-    r.lowest = offsets[i];
-    // level i / per_level + 1 steps 2^level tolerances; the turns after the levels: 0
-    r.multiple = i < per_level * static_cast<std::size_t>(levels) ? 2 << (i / per_level) : 0;
-  }
+  for (std::size_t i = 0; i < q.size(); ++i) consider(q[i], offsets[i]);
   if (registration == nullptr) return r;
   // A registration from the pose converges into the minimum of Q a few centimetres wide that
-  // fixed steps miss unless they land on it (errors between the steps' sizes).
-  const SurfaceTarget target(pair.points(0), pair.config(), *registration);
-  const RegistrationResult reg = target.align(pair.points(1), T_a_b);
-  r.registered = reg.usable(*registration);
-  if (!r.registered) return r;
-  r.registered_size = toleranceSize(T_a_b.inverse() * reg.T_a_b, tol);
-  if (r.registered_size < 1.0) return r;  // within the tolerance: no other pose found
+  // fixed steps miss unless they land on it (errors between the steps' sizes): the loop
+  // gate's registration from the pose, without a bound and without judging there.
+  const NearbyAlignment reg =
+      registeredNearby(pair, T_a_b, tol, *registration, std::numeric_limits<double>::infinity(),
+                       [](const Eigen::Isometry3d&) { return true; });
+  r.registered = reg.usable;
+  r.registered_size = reg.size;
+  if (!r.registered || r.registered_size < 1.0) return r;  // within the tolerance: no other pose
   const CoralResult at = pair.evaluateProbe(reg.T_a_b);
-  ++r.coral_evaluations;
-  if (!at.valid || (r.valid && at.quality >= r.lowest_q)) return r;
-  r.valid = true;
-  r.lowest_q = at.quality;
-  r.lowest = ToleranceOffset();
-  r.lowest.delta = T_a_b.inverse() * reg.T_a_b;
+  ToleranceOffset step;
+  step.delta = T_a_b.inverse() * reg.T_a_b;
   std::ostringstream name;
   name << std::setprecision(2) << "the pose registered from it (" << r.registered_size
        << " tolerances away)";
-  r.lowest.name = name.str();
-  r.multiple = 0;
+  step.name = name.str();
+  if (at.valid) consider(at.quality, step);
   return r;
 }
 

@@ -212,9 +212,9 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms)
     v.constraint = registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral,
                                           cfg.tolerance, cfg.gate.constraint_beam_step_deg);
-  // Not when the relative check already rejects (its probes cost 2 x axes x levels).
-  if ((cfg.gate.coarse_levels > 0 || cfg.gate.coarse_registration) && rel_needed &&
-      (!v.relative.misaligned || cfg.measure_gate_terms))
+  // Not when the relative check already rejects (its probes cost 2 x axes x levels + 3 and a
+  // registration); an invalid result when the gate asks for neither.
+  if (rel_needed && (!v.relative.misaligned || cfg.measure_gate_terms))
     v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
                            cfg.gate.coarse_levels,
                            cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr);

@@ -85,6 +85,22 @@ TEST(ToolArgs, TypedValuesRefuseMalformedNumbers) {
   EXPECT_EQ(n, -1);
 }
 
+TEST(ToolArgs, NumberListOptionTakesCommaSeparatedNumbersOrRefusesTheBadItem) {
+  ToolArgs a;
+  const char* argv[] = {"tool", "--k", "1.5,2.5,10", "--bad", "1,abc,2", "--hole", "1,,2"};
+  std::string err;
+  ASSERT_TRUE(parseToolArgs(7, argv, {"--k", "--bad", "--hole", "--absent"}, {}, &a, &err));
+  std::vector<double> k;
+  EXPECT_TRUE(numberListOption(a, "--k", {9.0}, &k, &err));
+  EXPECT_EQ(k, (std::vector<double>{1.5, 2.5, 10.0}));
+  EXPECT_TRUE(numberListOption(a, "--absent", {1.0, 2.0}, &k, &err));
+  EXPECT_EQ(k, (std::vector<double>{1.0, 2.0}));
+  EXPECT_FALSE(numberListOption(a, "--bad", {}, &k, &err));
+  EXPECT_EQ(err, "--bad must be numbers separated by commas (got 'abc')");
+  EXPECT_FALSE(numberListOption(a, "--hole", {}, &k, &err));
+  EXPECT_EQ(k, (std::vector<double>{1.0, 2.0}));  // unchanged on refusal
+}
+
 TEST(ToolArgs, ReadCommandLineGivesTheExitStatus) {
   ToolArgs a;
   const char* good[] = {"tool", "--config", "a.yaml"};

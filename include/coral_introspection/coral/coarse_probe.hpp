@@ -24,9 +24,7 @@ struct CoarseProbeResult {
   bool valid = false;  // probed: a Q at the pose and at least one valid probe
   double q = std::numeric_limits<double>::quiet_NaN();         // Q at the pose (probe queries)
   double lowest_q = std::numeric_limits<double>::quiet_NaN();  // lowest Q among the probes
-  ToleranceOffset lowest;  // that probe's step (delta in b's frame; name "x+ x2", ...)
-  int multiple = 0;        // its size in tolerances (2, 4, 8, ...); 0 for a turn
-  int coral_evaluations = 0;
+  ToleranceOffset lowest;        // that probe's step (delta in b's frame; name "x+ x2", ...)
   bool registered = false;       // a registration from the pose gave a pose (when asked)
   double registered_size = 0.0;  // its distance from the pose [tolerances] (toleranceSize)
   // How much lower Q is at the lowest probe than at the pose [nats] (> 0: lower away).
@@ -42,7 +40,8 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
 
 // Q (the pair's probe queries, as the relative check) at T_a_b * delta for every step of
 // coarseOffsets; `at_pose_probe` is the pair's Q at T_a_b over the same queries, reused.
-// With `registration`, b is also registered onto a once from T_a_b (SurfaceTarget) and the
+// With `registration`, b is also registered onto a once from T_a_b (restart_check.hpp
+// registeredNearby, without a bound) and the
 // result, when usable and at least one tolerance away, is one more probe. No steps and no
 // registration, or no valid Q at the pose: an invalid result, nothing evaluated.
 CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,

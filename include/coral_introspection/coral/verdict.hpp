@@ -135,7 +135,8 @@ struct AlignmentVerdict {
   FreeSpaceResult free_space;
   // Measured when gate.min_constraint > 0 (whatever the method); invalid otherwise.
   ConstraintResult constraint;
-  // Measured when gate.coarse_levels > 0 and the method runs the relative check.
+  // Measured when gate.coarse_levels > 0 or gate.coarse_registration and the method runs
+  // the relative check (and it passed, unless measure_gate_terms); invalid otherwise.
   CoarseProbeResult coarse;
   bool valid = false;    // a verdict was reached
   bool aligned = false;  // not misaligned by the tolerance or more

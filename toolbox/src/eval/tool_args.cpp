@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 
 namespace coral_introspection {
 namespace eval {
@@ -79,6 +80,18 @@ std::optional<int> readCommandLine(const char* tool, const char* usage, int argc
   return std::nullopt;
 }
 
+namespace {
+// v as a finite number (strtod syntax, the whole string); false when it is not one.
+bool parseNumber(const std::string& v, double* out) {
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x)) return false;
+  *out = x;
+  return true;
+}
+}  // namespace
+
 bool numberOption(const ToolArgs& args, const std::string& option, double fallback, double* out,
                   std::string* error) {
   if (!args.has(option)) {
@@ -86,14 +99,35 @@ bool numberOption(const ToolArgs& args, const std::string& option, double fallba
     return true;
   }
   const std::string v = args.get(option);
-  char* end = nullptr;
-  errno = 0;
-  const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x)) {
+  if (!parseNumber(v, out)) {
     *error = option + " must be a number (got '" + v + "')";
     return false;
   }
-  *out = x;
+  return true;
+}
+
+bool numberListOption(const ToolArgs& args, const std::string& option,
+                      const std::vector<double>& fallback, std::vector<double>* out,
+                      std::string* error) {
+  if (!args.has(option)) {
+    *out = fallback;
+    return true;
+  }
+  std::vector<double> list;
+  std::stringstream items(args.get(option));
+  for (std::string item; std::getline(items, item, ',');) {
+    double x;
+    if (!parseNumber(item, &x)) {
+      *error = option + " must be numbers separated by commas (got '" + item + "')";
+      return false;
+    }
+    list.push_back(x);
+  }
+  if (list.empty()) {
+    *error = option + " must be numbers separated by commas (got '" + args.get(option) + "')";
+    return false;
+  }
+  *out = list;
   return true;
 }
 

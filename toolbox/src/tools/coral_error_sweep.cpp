@@ -15,7 +15,6 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -52,18 +51,13 @@ int main(int argc, char** argv) {
   const std::string config = args.get("--config"), out_path = args.get("--out");
   // --multiples: error sizes off the default grid (the coarse probe steps 2, 4, 8 tolerances:
   // errors between them are the test of it).
-  std::vector<double> multiples = eval::sweepMultiples();
-  if (args.has("--multiples")) {
-    multiples.clear();
-    std::stringstream list(args.get("--multiples"));
-    for (std::string item; std::getline(list, item, ',');) {
-      char* end = nullptr;
-      const double k = std::strtod(item.c_str(), &end);
-      if (item.empty() || *end != '\0' || !std::isfinite(k) || k < 1.0 || k > 100.0)
-        return fail("--multiples: '" + item + "' is not a number of tolerances in [1, 100]");
-      multiples.push_back(k);
-    }
-  }
+  std::vector<double> multiples;
+  if (!eval::numberListOption(args, "--multiples", eval::sweepMultiples(), &multiples, &err))
+    return fail(err);
+  for (double k : multiples)
+    if (k < 1.0 || k > 100.0)
+      return fail("--multiples: " + std::to_string(k) +
+                  " is not a number of tolerances in [1, 100]");
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
   const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;

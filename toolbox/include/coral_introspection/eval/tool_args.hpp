@@ -52,6 +52,10 @@ std::optional<int> readCommandLine(const char* tool, const char* usage, int argc
 // A finite number (strtod syntax, e.g. "0.5", "-2", "1e-4").
 bool numberOption(const ToolArgs& args, const std::string& option, double fallback, double* out,
                   std::string* error);
+// Comma-separated finite numbers, each as numberOption's (e.g. "1.5,2.5,3").
+bool numberListOption(const ToolArgs& args, const std::string& option,
+                      const std::vector<double>& fallback, std::vector<double>* out,
+                      std::string* error);
 // An integer in [min, max].
 bool intOption(const ToolArgs& args, const std::string& option, int fallback, int min, int max,
                int* out, std::string* error);
