@@ -35,15 +35,17 @@ struct SurfaceTarget::Impl {
   int dimension = 3;
   RegistrationConfig cfg;
   Points points, normals;
-  // The nearest target point is searched within `near` first (one cell ring of this grid),
-  // then within max_correspondence: most correspondences are close, and the wide search
-  // visits many cells of a dense cloud.
+  // The nearest target point is searched within `near` first (a grid of that cell size),
+  // then within max_correspondence (a grid of that cell size): most correspondences are close,
+  // and a wide search visits many points of a dense cloud. Exact either way: a point found
+  // within `near` is the nearest of all.
   double near = 0.0;
-  std::unique_ptr<NeighbourGrid> grid;
+  std::unique_ptr<NeighbourGrid> near_grid, wide_grid;
 
   // Index of the nearest target point to q within max_correspondence, -1 when none.
   int nearest(const Vec3& q) const {
-    for (double radius : {near, cfg.max_correspondence}) {
+    for (const NeighbourGrid* grid : {near_grid.get(), wide_grid.get()}) {
+      const double radius = grid == near_grid.get() ? near : cfg.max_correspondence;
       int best = -1;
       double best_d2 = std::numeric_limits<double>::infinity();
       grid->forEachWithin(q, radius, [&](const Vec3& p, uint32_t index) {
@@ -71,7 +73,10 @@ SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
     if (p.allFinite()) finite.push_back(p);
   const double r = cfg.normal_radius > 0.0 ? cfg.normal_radius : coral.maxRadius();
   const NeighbourGrid own(finite, r, coral.dimension);
-  for (const Vec3& q : finite) {
+  const std::size_t stride =
+      std::max<std::size_t>(1, (finite.size() + kMaxTargetPoints - 1) / kMaxTargetPoints);
+  for (std::size_t i = 0; i < finite.size(); i += stride) {
+    const Vec3& q = finite[i];
     int n = 0;
     Vec3 sum = Vec3::Zero();
     Eigen::Matrix3d sq = Eigen::Matrix3d::Zero();
@@ -96,8 +101,9 @@ SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
     m.points.push_back(q);
     m.normals.push_back(normal);
   }
-  m.near = std::min(cfg.max_correspondence, 2.0 * r);
-  m.grid = std::make_unique<NeighbourGrid>(m.points, m.near, coral.dimension);
+  m.near = std::min(cfg.max_correspondence, 0.25 * r);
+  m.near_grid = std::make_unique<NeighbourGrid>(m.points, m.near, coral.dimension);
+  m.wide_grid = std::make_unique<NeighbourGrid>(m.points, cfg.max_correspondence, coral.dimension);
 }
 
 SurfaceTarget::~SurfaceTarget() = default;

@@ -56,6 +56,9 @@ std::string GateConfig::validate() const {
                "in [0, 1] tolerances, 0 = off", max_refinement)
       .require(max_registered_offset >= 0.0 && max_registered_offset < 1.0, "max_registered_offset",
                "in [0, 1) tolerances, 0 = off", max_registered_offset)
+      .require(registered_min_probability >= 0.0 && registered_min_probability <= 1.0,
+               "registered_min_probability", "in [0, 1], 0 = the verdict alone",
+               registered_min_probability)
       .str();
 }
 
@@ -268,8 +271,8 @@ void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const 
 
 // Gate max_registered_offset on verdict v, rejected at T_a_b: registered once from the pose
 // (restart_check.hpp registeredNearby). True when the registered pose, within the bound, passes
-// the verdict (restart check included) and the classifier says aligned there: v is then
-// "aligned" with that pose offered.
+// the verdict (restart check included) with the classifier's p at least
+// registered_min_probability there: v is then "aligned" with that pose offered.
 bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
                   AlignmentVerdict* v) {
   AlignmentVerdict w;
@@ -278,7 +281,7 @@ bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const V
                                  w = judgeAtPose(pair, T, cfg);
                                  if (cfg.gate.restarts && w.valid && w.aligned)
                                    checkRestarts(pair, T, cfg, &w);
-                                 return refinedPoseAccepted(w);
+                                 return registeredPoseAccepted(w, cfg.gate);
                                });
   const NearbyAlignment& n = v->nearby;
   if (!n.accepted) return false;
@@ -324,6 +327,11 @@ JudgedPose judgedPose(const AlignmentVerdict& v) {
 
 bool refinedPoseAccepted(const AlignmentVerdict& at_refined) {
   return at_refined.valid && at_refined.aligned && at_refined.classifier.aligned;
+}
+
+bool registeredPoseAccepted(const AlignmentVerdict& at_registered, const GateConfig& gate) {
+  return at_registered.valid && at_registered.aligned &&
+         at_registered.classifier.probability >= gate.registered_min_probability;
 }
 
 std::string classifierYaml(const ClassifierConfig& c, const std::vector<std::string>& comments,

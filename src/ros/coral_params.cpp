@@ -82,6 +82,8 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("loop_closure/max_refinement", &o.verdict.loop_closure.max_refinement) &&
       r.get("loop_closure/restarts", &o.verdict.loop_closure.restarts) &&
       r.get("loop_closure/max_registered_offset", &o.verdict.loop_closure.max_registered_offset) &&
+      r.get("loop_closure/registered_min_probability",
+            &o.verdict.loop_closure.registered_min_probability) &&
       r.get("free_space/bin_deg", &o.verdict.free_space.bin_deg) &&
       r.get("free_space/margin", &o.verdict.free_space.margin) &&
       r.get("free_space/min_tested", &o.verdict.free_space.min_tested) &&

@@ -9,6 +9,8 @@
 // a full tolerance off is not.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "coral_introspection/coral/restart_check.hpp"
 #include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/eval/loop_candidates.hpp"
@@ -227,6 +229,21 @@ TEST(NearbyAlignment, TheLoopVerdictAcceptsACandidateThatRegistersBackWithinTheB
   const coral::AlignmentVerdict t = coral::judgeAlignment(*s.pair, s.p.T_a_b, loop);
   EXPECT_TRUE(t.valid && t.aligned);
   EXPECT_FALSE(t.nearby.run);
+  // The classifier's p at the registered pose must reach registered_min_probability (0 = the
+  // verdict alone, lidar_3d; lidar_2d asks 0.5): just above it, rejected; at it, accepted.
+  const double p_registered =
+      coral::judgeAlignment(*s.pair, v.nearby.T_a_b, loop).classifier.probability;
+  ASSERT_GT(p_registered, 0.0);
+  ASSERT_LT(p_registered, 1.0);
+  loop.gate.registered_min_probability = std::min(1.0, p_registered + 1e-6);
+  const coral::AlignmentVerdict strict = coral::judgeAlignment(*s.pair, near, loop);
+  EXPECT_FALSE(strict.aligned);
+  EXPECT_TRUE(strict.nearby.usable);
+  EXPECT_FALSE(strict.nearby.accepted);
+  loop.gate.registered_min_probability = p_registered - 1e-6;
+  EXPECT_TRUE(coral::judgeAlignment(*s.pair, near, loop).aligned);
+  loop.gate.registered_min_probability = 1.5;
+  EXPECT_NE(loop.validate().find("registered_min_probability"), std::string::npos);
 }
 
 TEST(RestartCheck, RefusesBadSettings) {

@@ -194,6 +194,8 @@ std::string describe(const NodeConfig& c) {
     << "\nloop_closure.restarts = " << c.online.verdict.loop_closure.restarts
     << "\nloop_closure.max_registered_offset = "
     << c.online.verdict.loop_closure.max_registered_offset
+    << "\nloop_closure.registered_min_probability = "
+    << c.online.verdict.loop_closure.registered_min_probability
     << "\nfree_space.bin_deg = " << c.online.verdict.free_space.bin_deg
     << "\nfree_space.margin = " << c.online.verdict.free_space.margin
     << "\nfree_space.min_tested = " << c.online.verdict.free_space.min_tested

@@ -97,11 +97,17 @@ struct GateConfig {
   // [tolerances] loop closures only: a candidate rejected at its pose is registered once from
   // it (restart_check.hpp registeredNearby, VerdictConfig::restart.registration); when the
   // registration ends within this many tolerances at a pose this verdict accepts (with its
-  // restart check) and the classifier says aligned there (refinedPoseAccepted), the candidate
-  // is accepted: its pose is within the tolerance of an accepted alignment, which is offered
-  // (AlignmentVerdict::refined). In [0, 1): a pose off by a full tolerance, registered back,
-  // ends a tolerance away and stays rejected. 0 = off. Tried before max_refinement.
+  // restart check) and the classifier's p reaches registered_min_probability there, the
+  // candidate is accepted: its pose is within the tolerance of an accepted alignment, which is
+  // offered (AlignmentVerdict::refined). In [0, 1): a pose off by a full tolerance, registered
+  // back, ends a tolerance away and stays rejected. 0 = off. Tried before max_refinement.
   double max_registered_offset = 0.0;
+  // [-] with max_registered_offset: the classifier's p (Eq. 9) the registered pose must also
+  // reach, besides this verdict's min_probability. lidar_2d: 0.5, the classifier's own
+  // threshold (without it one more false Intel candidate passed, doc/loop_closure.md); 0 = the
+  // verdict alone, which true 3D revisits need (their p is low at any pose: loop pairs are
+  // far apart in time, the classifier was trained on consecutive ones). In [0, 1].
+  double registered_min_probability = 0.0;
   std::string validate() const;  // empty when valid
 };
 
@@ -207,6 +213,11 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
 // does not look like an aligned pair: on the ACES loops the refined true candidates reach p
 // 0.6-0.999, the false ones that pass the gate 0.01-0.4 (doc/loop_closure.md).
 bool refinedPoseAccepted(const AlignmentVerdict& at_refined);
+
+// The loop gate's max_registered_offset accepts a candidate at the pose registered from it when
+// the verdict at that pose passes (valid and aligned, restart check included) and the
+// classifier's p reaches gate.registered_min_probability there.
+bool registeredPoseAccepted(const AlignmentVerdict& at_registered, const GateConfig& gate);
 
 // What the restart check reads of a verdict judged at one pose (restart_check.hpp):
 // {valid and aligned, Q, overlap}.

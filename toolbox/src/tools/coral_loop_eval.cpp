@@ -134,7 +134,8 @@ Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const 
         *pj.prepared, c.T_a_b, verdict.tolerance, verdict.restart.registration,
         gate.max_registered_offset, [&](const Eigen::Isometry3d& T) {
           const coral::AlignmentVerdict w = judgeAt(T);
-          return eval::loopGateAccepts("verdict", c, w, verdict) && w.classifier.aligned &&
+          return eval::loopGateAccepts("verdict", c, w, verdict) &&
+                 w.classifier.probability >= gate.registered_min_probability &&
                  !(gate.restarts && restartCheck(T, w).better_elsewhere);
         });
     if (j.v.nearby.accepted) {
@@ -271,7 +272,9 @@ int main(int argc, char** argv) {
            "relative_score,relative_misaligned,q,h_joint,h_sep,overlap,flat_axes,free_space,"
            "constraint,refinement,refined_accepted,refined_classifier_p,refined_relative_score,"
            "refined_q,refined_overlap,refined_constraint,refined_free_space,restart_better,"
-           "restart_distance,restart_q,nearby_size,nearby_accepted,coarse_drop,x,y,z,yaw_deg\n";
+           "restart_distance,restart_q,nearby_size,nearby_accepted,coarse_drop,verdict_accepted,x,"
+           "y,z,"
+           "yaw_deg\n";
     for (const Judged* j : table) {
       const eval::LoopCandidate& c = j->c;
       const coral::AlignmentVerdict& v = j->v;
@@ -291,7 +294,8 @@ int main(int argc, char** argv) {
       const coral::RestartResult& r = j->v.restart;  // zeros when not run
       out << r.better_elsewhere << ',' << r.distance << ',' << r.q << ',';
       const coral::NearbyAlignment& n = j->v.nearby;  // zeros when not run
-      out << n.size << ',' << n.accepted << ',' << v.coarse.drop() << ',';
+      out << n.size << ',' << n.accepted << ',' << v.coarse.drop() << ','
+          << eval::loopGateAccepts("verdict", c, v, verdict) << ',';
       // The candidate's transform (b in a's frame) as judged: coral_check --transform_file.
       const Eigen::Vector3d t = c.T_a_b.translation();
       const Eigen::Matrix3d R = c.T_a_b.rotation();
