@@ -86,6 +86,23 @@ eval::LoopCandidateConfig candidateConfig(int dimension, const coral::ToleranceC
   return c;
 }
 
+// The hku1 Livox keyframes (scans, reference and odometry poses) and the loop candidates
+// eval::buildLoopCandidates builds from them with `lc`.
+struct LivoxLoop {
+  std::vector<eval::TrainingScan> scans;
+  coral::Isometries ref, odom;
+  std::vector<eval::LoopCandidate> cands;
+};
+bool loadLivoxLoop(const std::string& dir, const eval::LoopCandidateConfig& lc, LivoxLoop* l,
+                   std::string* err) {
+  if (!eval::loadKeyframeSequence(dir, eval::KeyframeSequenceConfig(), nullptr, &l->scans, &l->ref,
+                                  err) ||
+      !eval::readKittiPoses(dir + "/odom_poses.txt", &l->odom, err))
+    return false;
+  l->odom.resize(l->scans.size());
+  return eval::buildLoopCandidates(l->scans, l->ref, l->odom, lc, &l->cands, err);
+}
+
 void print(const char* name, const LoopTally& t) {
   std::cout << name << ": true accepted " << t.true_accepted << " / " << t.true_total
             << ", false accepted " << t.false_accepted << " / " << t.false_total
@@ -100,20 +117,14 @@ TEST(LoopClosure, Lidar3dOnTheLivoxLoop) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_3d", &node);
-  std::vector<eval::TrainingScan> scans;
-  coral::Isometries ref, odom;
+  LivoxLoop l;
   std::string err;
-  ASSERT_TRUE(eval::loadKeyframeSequence(coral_data, eval::KeyframeSequenceConfig(), nullptr,
-                                         &scans, &ref, &err))
+  ASSERT_TRUE(
+      loadLivoxLoop(coral_data, candidateConfig(3, node.online.verdict.tolerance), &l, &err))
       << err;
-  ASSERT_TRUE(eval::readKittiPoses(coral_data + "/odom_poses.txt", &odom, &err)) << err;
-  odom.resize(scans.size());
-  const eval::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance);
-  std::vector<eval::LoopCandidate> cands;
-  ASSERT_TRUE(eval::buildLoopCandidates(scans, ref, odom, lc, &cands, &err)) << err;
   LoopTally t;
-  for (const eval::LoopCandidate& c : cands)
-    judge(node, scans[c.a].scan, scans[c.b].scan, c.T_a_b, c.is_true, &t);
+  for (const eval::LoopCandidate& c : l.cands)
+    judge(node, l.scans[c.a].scan, l.scans[c.b].scan, c.T_a_b, c.is_true, &t);
   print("lidar_3d, hku1 Livox", t);
   // Measured (doc/loop_closure.md): 39 true, 164 false; loop verdict 39 true, 0 false
   // accepted; the relative check alone 17 false. No restart check (lidar_3d's loop gate).
@@ -439,18 +450,11 @@ TEST(LoopClosure, Lidar3dRevisitsLeftShortAreAcceptedRegisteredBack) {
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_3d", &node);
   ASSERT_GT(node.online.verdict.loop_closure.max_registered_offset, 0.0);
-  std::vector<eval::TrainingScan> scans;
-  coral::Isometries ref, odom;
-  std::string err;
-  ASSERT_TRUE(eval::loadKeyframeSequence(coral_data, eval::KeyframeSequenceConfig(), nullptr,
-                                         &scans, &ref, &err))
-      << err;
-  ASSERT_TRUE(eval::readKittiPoses(coral_data + "/odom_poses.txt", &odom, &err)) << err;
-  odom.resize(scans.size());
   eval::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance);
   lc.max_lookalike_pairs = 0;  // the true revisits only
-  std::vector<eval::LoopCandidate> cands;
-  ASSERT_TRUE(eval::buildLoopCandidates(scans, ref, odom, lc, &cands, &err)) << err;
+  LivoxLoop l;
+  std::string err;
+  ASSERT_TRUE(loadLivoxLoop(coral_data, lc, &l, &err)) << err;
   online::IntrospectorConfig preset = node.online, at_pose = node.online;
   preset.verdict = coral::loopClosureVerdict(node.online.verdict);
   at_pose.verdict = preset.verdict;
@@ -482,11 +486,11 @@ TEST(LoopClosure, Lidar3dRevisitsLeftShortAreAcceptedRegisteredBack) {
   auto accepts = [&](const online::IntrospectorConfig& cfg, const eval::LoopCandidate& c,
                      const Eigen::Isometry3d& T) {
     const coral::AlignmentVerdict v =
-        online::judgePair(scans[c.a].scan, scans[c.b].scan, T, cfg, false).verdict;
+        online::judgePair(l.scans[c.a].scan, l.scans[c.b].scan, T, cfg, false).verdict;
     return v.valid && v.aligned;
   };
   int n = 0, short_at_pose = 0, short_preset = 0, one = 0, one_preset = 0;
-  for (const eval::LoopCandidate& c : cands) {
+  for (const eval::LoopCandidate& c : l.cands) {
     if (!c.is_true) continue;
     ++n;
     const Eigen::Isometry3d T = c.T_a_b * short_of(c);
