@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "coral_introspection/coral/neighbour_grid.hpp"
+#include "coral_introspection/coral/point_filter.hpp"
 
 namespace coral_introspection {
 namespace coral {
@@ -28,7 +29,7 @@ std::vector<Shared> sharedPoints(const NeighbourGrid& grid, const Points& own, i
   std::vector<Shared> out;
   const int dim = coral.dimension;
   const double r = coral.maxRadius();
-  const std::size_t stride = std::max<std::size_t>(1, (own.size() + kMaxQueries - 1) / kMaxQueries);
+  const std::size_t stride = strideFor(own.size(), kMaxQueries);
   for (std::size_t i = 0; i < own.size(); i += stride) {
     const Vec3& q = own[i];
     if (!q.allFinite()) continue;

@@ -8,6 +8,7 @@
 
 #include "coral_introspection/coral/constraint.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
+#include "coral_introspection/coral/point_filter.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
@@ -35,30 +36,31 @@ struct SurfaceTarget::Impl {
   int dimension = 3;
   RegistrationConfig cfg;
   Points points, normals;
-  // The nearest target point is searched within `near` first (a grid of that cell size),
-  // then within max_correspondence (a grid of that cell size): most correspondences are close,
-  // and a wide search visits many points of a dense cloud. Exact either way: a point found
-  // within `near` is the nearest of all.
+  // The nearest target point is searched within `near` first (near_grid, of that cell size),
+  // then within max_correspondence (wide_grid, of that cell size; none when near reaches it):
+  // most correspondences are close, and a wide search visits many points of a dense cloud.
+  // Exact either way: a point found within `near` is the nearest of all.
   double near = 0.0;
   std::unique_ptr<NeighbourGrid> near_grid, wide_grid;
 
+  // Index of the nearest target point to q within `radius` in `grid`, -1 when none.
+  int nearestIn(const NeighbourGrid& grid, const Vec3& q, double radius) const {
+    int best = -1;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    grid.forEachWithin(q, radius, [&](const Vec3& p, uint32_t index) {
+      const Vec3 d = p - q;
+      const double d2 = dimension == 2 ? d.head<2>().squaredNorm() : d.squaredNorm();
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best = static_cast<int>(index);
+      }
+    });
+    return best;
+  }
   // Index of the nearest target point to q within max_correspondence, -1 when none.
   int nearest(const Vec3& q) const {
-    for (const NeighbourGrid* grid : {near_grid.get(), wide_grid.get()}) {
-      const double radius = grid == near_grid.get() ? near : cfg.max_correspondence;
-      int best = -1;
-      double best_d2 = std::numeric_limits<double>::infinity();
-      grid->forEachWithin(q, radius, [&](const Vec3& p, uint32_t index) {
-        const Vec3 d = p - q;
-        const double d2 = dimension == 2 ? d.head<2>().squaredNorm() : d.squaredNorm();
-        if (d2 < best_d2) {
-          best_d2 = d2;
-          best = static_cast<int>(index);
-        }
-      });
-      if (best >= 0 || radius >= cfg.max_correspondence) return best;
-    }
-    return -1;
+    const int k = nearestIn(*near_grid, q, near);
+    return k >= 0 || !wide_grid ? k : nearestIn(*wide_grid, q, cfg.max_correspondence);
   }
 };
 
@@ -73,8 +75,7 @@ SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
     if (p.allFinite()) finite.push_back(p);
   const double r = cfg.normal_radius > 0.0 ? cfg.normal_radius : coral.maxRadius();
   const NeighbourGrid own(finite, r, coral.dimension);
-  const std::size_t stride =
-      std::max<std::size_t>(1, (finite.size() + kMaxTargetPoints - 1) / kMaxTargetPoints);
+  const std::size_t stride = strideFor(finite.size(), kMaxTargetPoints);
   for (std::size_t i = 0; i < finite.size(); i += stride) {
     const Vec3& q = finite[i];
     int n = 0;
@@ -103,7 +104,9 @@ SurfaceTarget::SurfaceTarget(const Points& a, const CoralConfig& coral,
   }
   m.near = std::min(cfg.max_correspondence, 0.25 * r);
   m.near_grid = std::make_unique<NeighbourGrid>(m.points, m.near, coral.dimension);
-  m.wide_grid = std::make_unique<NeighbourGrid>(m.points, cfg.max_correspondence, coral.dimension);
+  if (m.near < cfg.max_correspondence)
+    m.wide_grid =
+        std::make_unique<NeighbourGrid>(m.points, cfg.max_correspondence, coral.dimension);
 }
 
 SurfaceTarget::~SurfaceTarget() = default;
@@ -115,8 +118,7 @@ RegistrationResult SurfaceTarget::align(const Points& b, const Eigen::Isometry3d
   RegistrationResult res;
   res.T_a_b = T_init;
   Points source;
-  const std::size_t stride =
-      std::max<std::size_t>(1, (b.size() + kMaxSourcePoints - 1) / kMaxSourcePoints);
+  const std::size_t stride = strideFor(b.size(), kMaxSourcePoints);
   for (std::size_t i = 0; i < b.size(); i += stride)
     if (b[i].allFinite()) source.push_back(b[i]);
   if (m.points.empty()) return res;

@@ -31,6 +31,12 @@ void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite, std::si
 // max_points remain; the input when it is not larger.
 Points strideSubsample(const Points& in, std::size_t max_points);
 
+// The whole-number stride that keeps at most max_points of n (every stride-th from the first):
+// ceil(n / max_points), at least 1. For loops that visit a subset in place. max_points > 0.
+inline std::size_t strideFor(std::size_t n, std::size_t max_points) {
+  return n > max_points ? (n + max_points - 1) / max_points : 1;
+}
+
 // Points of one scan in the same cube of edge `tolerance` [m] (dim 2: square in x, y) are
 // replaced by their centroid, kept at the place of the group's first point; a point alone
 // is returned bit-identical, so input order and values survive when nothing coincides.
