@@ -305,8 +305,10 @@ struct SweepTally {
 void sweepPairs(const std::string& preset, const online::IntrospectorConfig& judge,
                 const eval::PairDataset& d, SweepTally* t,
                 const std::vector<double>& multiples = eval::sweepMultiples(),
-                std::size_t every = 1) {
-  const auto errors = eval::sweepErrors(judge.verdict.tolerance, judge.coral.dimension, multiples);
+                std::size_t every = 1,
+                const std::vector<double>& yaw_degrees = eval::sweepYawDegrees()) {
+  const auto errors =
+      eval::sweepErrors(judge.verdict.tolerance, judge.coral.dimension, multiples, yaw_degrees);
   const int pairs0 = t->pairs, errors0 = t->errors, accepted0 = t->errors_accepted,
             rejected0 = t->truths_rejected;  // earlier data sets of the same test
   // Under CORAL_VERDICT_PAIR_STRIDE (the sanitizer build, ~55x slower) one pair per data set:
@@ -339,12 +341,18 @@ void sweepPairs(const std::string& preset, const online::IntrospectorConfig& jud
 
 void sweepDataSet(const std::string& preset, const std::string& spec_text, SweepTally* t,
                   const std::vector<double>& multiples = eval::sweepMultiples(),
-                  std::size_t every = 1) {
+                  std::size_t every = 1,
+                  const std::vector<double>& yaw_degrees = eval::sweepYawDegrees()) {
   ros_adapters::NodeConfig node;
   eval::PairDataset d;
   if (!loadPresetData(preset, spec_text, &node, &d)) return;
-  sweepPairs(preset, node.online, d, t, multiples, every);
+  sweepPairs(preset, node.online, d, t, multiples, every, yaw_degrees);
 }
+
+// Errors between the steps of the default sweep: 1.5-10 tolerances, yaw between its fixed
+// angles (and between the coarse probe's quarter and half turns).
+const std::vector<double> kBetweenMultiples{1.5, 2.5, 3.0, 5.0, 6.0, 10.0};
+const std::vector<double> kBetweenYawDegrees{10, 20, 30, 60, 120, 135, 150, 170};
 
 }  // namespace
 
@@ -352,7 +360,8 @@ void sweepDataSet(const std::string& preset, const std::string& spec_text, Sweep
 // errors past the CorAl radius (Oxford: y+8 in 5/10 pairs, yaw 180 deg in 10/10; Livox: yaw
 // 90 deg in 79/80 pairs of every 4th); the gated preset verdict rejects each of them and keeps
 // ground truth.
-// Also errors between the steps 1, 2, 4, 8 (1.5-10 tolerances) and through the loop verdict:
+// Also errors between the steps 1, 2, 4, 8 (1.5-10 tolerances), yaw between the fixed angles
+// (10-170 deg), and through the loop verdict:
 // with gate/min_probability 0.01 the stream verdict accepted x-6 tolerances (3 m) on pair 0
 // (p 0.052, x flat; doc/verdict_every_error.md).
 TEST(PresetVerdicts, EveryErrorSizeRadarOxford) {
@@ -363,11 +372,11 @@ TEST(PresetVerdicts, EveryErrorSizeRadarOxford) {
   online::IntrospectorConfig loop = node.online;
   loop.verdict = coral::loopClosureVerdict(node.online.verdict);
   for (const online::IntrospectorConfig* judge : {&node.online, &loop})
-    for (const std::vector<double>& multiples :
-         {eval::sweepMultiples(), std::vector<double>{1.5, 2.5, 3.0, 5.0, 6.0, 10.0}}) {
+    for (bool between : {false, true}) {
       SweepTally t;
       sweepPairs(judge == &loop ? "radar_oxford (loop verdict)" : "radar_oxford", *judge, d, &t,
-                 multiples);
+                 between ? kBetweenMultiples : eval::sweepMultiples(), 1,
+                 between ? kBetweenYawDegrees : eval::sweepYawDegrees());
       EXPECT_EQ(t.pairs, stride() > 1 ? 1 : 10);
       EXPECT_EQ(t.errors_accepted, 0) << "(listed above)";
       EXPECT_EQ(t.truths_rejected, 0) << "(listed above)";
@@ -386,17 +395,18 @@ TEST(PresetVerdicts, EveryErrorSizeLidar3d) {
   EXPECT_EQ(t.truths_rejected, 0) << "(listed above)";
 }
 
-// Errors between the steps 1, 2, 4, 8 (1.5-10 tolerances), every 16th Livox pair and the car
-// pair. Measured (coral_error_sweep --multiples, every 4th pair and the car pair): 0 of 6480
-// accepted, ground truth 81 / 81.
+// Errors between the steps 1, 2, 4, 8 (1.5-10 tolerances) and yaw between the fixed angles
+// (10-170 deg), every 16th Livox pair and the car pair. Measured (coral_error_sweep --multiples
+// / --yaw_deg, every 4th pair and the car pair): 0 of 6480 and 0 of 1280 accepted, ground
+// truth 80 / 80.
 TEST(PresetVerdicts, EveryErrorSizeLidar3dBetweenTheSteps) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
-  const std::vector<double> between{1.5, 2.5, 3.0, 5.0, 6.0, 10.0};
   SweepTally t;
-  sweepDataSet("lidar_3d", "keyframes:" + coral_data, &t, between, 16);
+  sweepDataSet("lidar_3d", "keyframes:" + coral_data, &t, kBetweenMultiples, 16,
+               kBetweenYawDegrees);
   sweepDataSet("lidar_3d",
                "cloudlist:" + coral_test::dataDir() + "/libpointmatcher_car_cloud/carCloudList.csv",
-               &t, between);
+               &t, kBetweenMultiples, 1, kBetweenYawDegrees);
   EXPECT_GE(t.pairs, 2);
   EXPECT_EQ(t.errors_accepted, 0) << "(listed above)";
   EXPECT_EQ(t.truths_rejected, 0) << "(listed above)";

@@ -7,7 +7,8 @@ namespace coral_introspection {
 namespace eval {
 
 std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension,
-                                    const std::vector<double>& multiples) {
+                                    const std::vector<double>& multiples,
+                                    const std::vector<double>& yaw_degrees) {
   std::vector<SweepError> out;
   SweepError gt;
   gt.label = "ground truth";
@@ -28,7 +29,7 @@ std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimen
       e.label = s.str();
       out.push_back(e);
     }
-  for (double deg : sweepYawDegrees()) {
+  for (double deg : yaw_degrees) {
     if (deg < tol.rotation_deg) continue;
     for (const coral::ToleranceOffset& o :
          coral::toleranceOffsets({tol.translation, deg}, dimension)) {

@@ -4,7 +4,8 @@
 // right for every error size). One CSV row per (pair, error) with the verdict and the terms
 // behind it, so decision rules can be compared offline; a summary per error size on stderr.
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
-//       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)] [--out FILE.csv]
+//       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)]
+//       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--out FILE.csv]
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
 // "right": ground truth accepted (a valid, aligned verdict), an error not accepted (misaligned
 // or no verdict, e.g. no overlap left). Exit 0 on success, 2 with a message for bad arguments
@@ -30,7 +31,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
-    "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] [--out FILE.csv]";
+    "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] "
+    "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] [--out FILE.csv]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
 
@@ -40,7 +42,8 @@ int main(int argc, char** argv) {
   eval::ToolArgs args;
   std::string err;
   int stride = 1;
-  if (!eval::parseToolArgs(argc, argv, {"--config", "--data", "--stride", "--multiples", "--out"},
+  if (!eval::parseToolArgs(argc, argv,
+                           {"--config", "--data", "--stride", "--multiples", "--yaw_deg", "--out"},
                            {}, &args, &err) ||
       !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
@@ -58,6 +61,14 @@ int main(int argc, char** argv) {
     if (k < 1.0 || k > 100.0)
       return fail("--multiples: " + std::to_string(k) +
                   " is not a number of tolerances in [1, 100]");
+  // --yaw_deg: fixed yaw errors other than 5..180 deg (the coarse probe turns by a quarter and a
+  // half: angles between them are the test of it).
+  std::vector<double> yaw_degrees;
+  if (!eval::numberListOption(args, "--yaw_deg", eval::sweepYawDegrees(), &yaw_degrees, &err))
+    return fail(err);
+  for (double d : yaw_degrees)
+    if (!(d > 0.0 && d <= 180.0))
+      return fail("--yaw_deg: " + std::to_string(d) + " is not an angle in (0, 180] deg");
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
   const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;
@@ -88,7 +99,7 @@ int main(int argc, char** argv) {
     eval::PairDataset d;
     if (!eval::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
     const std::vector<eval::SweepError> errors =
-        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension, multiples);
+        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension, multiples, yaw_degrees);
     for (std::size_t i = 0; i < d.pairs.size(); i += static_cast<std::size_t>(stride)) {
       const eval::ScanPair& p = d.pairs[i];
       for (const eval::SweepError& e : errors) {

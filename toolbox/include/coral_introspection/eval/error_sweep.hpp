@@ -40,7 +40,8 @@ inline const std::vector<double>& sweepYawDegrees() {
 // signs; 180 deg once). Fixed yaw angles below the rotation tolerance are left out (they are
 // not errors at that tolerance).
 std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension,
-                                    const std::vector<double>& multiples = sweepMultiples());
+                                    const std::vector<double>& multiples = sweepMultiples(),
+                                    const std::vector<double>& yaw_degrees = sweepYawDegrees());
 
 // One CSV line per judged error: the verdict and the terms behind it.
 std::string errorSweepCsvHeader();
