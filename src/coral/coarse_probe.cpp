@@ -12,9 +12,10 @@
 namespace coral_introspection {
 namespace coral {
 
-std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimension, int levels) {
+std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimension,
+                                           int max_multiple) {
   std::vector<ToleranceOffset> out;
-  for (int level = 1, multiple = 2; level <= levels; ++level, multiple *= 2) {
+  for (int multiple = 2; multiple <= max_multiple; multiple += 2) {
     ToleranceConfig scaled = tol;  // one "tolerance" of `multiple` tolerances
     scaled.translation *= multiple;
     scaled.rotation_deg *= multiple;
@@ -23,7 +24,7 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
       out.push_back(o);
     }
   }
-  if (levels <= 0) return out;
+  if (max_multiple < 2) return out;
   // Quarter and half turns about z (yaw): a corridor or a symmetric room seen turned round
   // is a minimum of Q that no step of a few tolerances leaves.
   for (double deg : {90.0, -90.0, 180.0}) {
@@ -40,10 +41,10 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
 
 CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                               const CoralResult& at_pose_probe, int dimension,
-                              const ToleranceConfig& tol, int levels,
+                              const ToleranceConfig& tol, int max_multiple,
                               const RegistrationConfig* registration) {
   CoarseProbeResult r;
-  if ((levels <= 0 && registration == nullptr) || !at_pose_probe.valid) return r;
+  if ((max_multiple < 2 && registration == nullptr) || !at_pose_probe.valid) return r;
   r.q = at_pose_probe.quality;
   // A probe with a lower Q than the lowest so far becomes the lowest.
   auto consider = [&r](double q, const ToleranceOffset& step) {
@@ -52,7 +53,7 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
     r.lowest_q = q;
     r.lowest = step;
   };
-  const std::vector<ToleranceOffset> offsets = coarseOffsets(tol, dimension, levels);
+  const std::vector<ToleranceOffset> offsets = coarseOffsets(tol, dimension, max_multiple);
   const std::vector<double> q = neighbourQualities(pair, T_a_b, offsets);
   for (std::size_t i = 0; i < q.size(); ++i) consider(q[i], offsets[i]);
   if (registration == nullptr) return r;

@@ -46,8 +46,8 @@ std::string GateConfig::validate() const {
       .require(constraint_beam_step_deg >= 0.0 && constraint_beam_step_deg <= 10.0,
                "constraint_beam_step_deg", "in [0, 10] deg, 0 = off", constraint_beam_step_deg)
       .require(!std::isnan(max_quality), "max_quality", "a number of nats, .inf = off", max_quality)
-      .require(coarse_levels >= 0 && coarse_levels <= 4, "coarse_levels",
-               "in [0, 4] (probes up to 16 tolerances away), 0 = off", coarse_levels)
+      .require(coarse_max_multiple == 0 || (coarse_max_multiple >= 2 && coarse_max_multiple <= 16),
+               "coarse_max_multiple", "0 (off) or in [2, 16] tolerances", coarse_max_multiple)
       .require(coarse_margin >= 0.0 && std::isfinite(coarse_margin), "coarse_margin", ">= 0 nats",
                coarse_margin)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
@@ -215,11 +215,11 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   if (cfg.gate.min_constraint > 0.0 || cfg.measure_gate_terms)
     v.constraint = registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral,
                                           cfg.tolerance, cfg.gate.constraint_beam_step_deg);
-  // Not when the relative check already rejects (its probes cost 2 x axes x levels + 3 and a
+  // Not when the relative check already rejects (its probes cost 2 x axes x steps + 3 and a
   // registration); an invalid result when the gate asks for neither.
   if (rel_needed && (!v.relative.misaligned || cfg.measure_gate_terms))
     v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
-                           cfg.gate.coarse_levels,
+                           cfg.gate.coarse_max_multiple,
                            cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;

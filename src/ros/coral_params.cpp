@@ -65,7 +65,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("gate/min_constraint", &o.verdict.gate.min_constraint) &&
       r.get("gate/constraint_beam_step_deg", &o.verdict.gate.constraint_beam_step_deg) &&
       r.get("gate/max_quality", &o.verdict.gate.max_quality) &&
-      r.get("gate/coarse_levels", &o.verdict.gate.coarse_levels) &&
+      r.get("gate/coarse_max_multiple", &o.verdict.gate.coarse_max_multiple) &&
       r.get("gate/coarse_margin", &o.verdict.gate.coarse_margin) &&
       r.get("gate/coarse_registration", &o.verdict.gate.coarse_registration) &&
       r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
@@ -76,7 +76,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("loop_closure/constraint_beam_step_deg",
             &o.verdict.loop_closure.constraint_beam_step_deg) &&
       r.get("loop_closure/max_quality", &o.verdict.loop_closure.max_quality) &&
-      r.get("loop_closure/coarse_levels", &o.verdict.loop_closure.coarse_levels) &&
+      r.get("loop_closure/coarse_max_multiple", &o.verdict.loop_closure.coarse_max_multiple) &&
       r.get("loop_closure/coarse_margin", &o.verdict.loop_closure.coarse_margin) &&
       r.get("loop_closure/coarse_registration", &o.verdict.loop_closure.coarse_registration) &&
       r.get("loop_closure/max_refinement", &o.verdict.loop_closure.max_refinement) &&

@@ -1,4 +1,4 @@
-// The gated verdict's coarse probe (coarse_probe.hpp, GateConfig::coarse_levels and
+// The gated verdict's coarse probe (coarse_probe.hpp, GateConfig::coarse_max_multiple and
 // coarse_registration): its steps, and on a ray-cast planar pair the errors past the CorAl
 // radius that the relative check and the classifier accept, rejected by it with the probe
 // that points back to the truth; ground truth kept.
@@ -15,31 +15,38 @@ using namespace coral_introspection::test;
 namespace {
 double yawOf(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
 
-VerdictConfig gated(int levels, bool registration) {
+VerdictConfig gated(int max_multiple, bool registration) {
   VerdictConfig v;
   v.tolerance = ToleranceConfig::lidar2d();  // 0.3 m, 5 deg
   v.method = VerdictMethod::kGated;
-  v.gate.coarse_levels = levels;
+  v.gate.coarse_max_multiple = max_multiple;
   v.gate.coarse_registration = registration;
   return v;
 }
 }  // namespace
 
-TEST(CoarseProbe, StepsDoubleLevelByLevelThenTurn) {
+TEST(CoarseProbe, StepsTwoTolerancesApartThenTurn) {
   const ToleranceConfig tol = ToleranceConfig::lidar2d();
   EXPECT_TRUE(coarseOffsets(tol, 2, 0).empty());
-  const std::vector<ToleranceOffset> o = coarseOffsets(tol, 2, 3);
-  ASSERT_EQ(o.size(), 3u * 6u + 3u);  // x, y, yaw both ways at 2, 4, 8 tolerances; 3 turns
+  EXPECT_TRUE(coarseOffsets(tol, 2, 1).empty());
+  const std::vector<ToleranceOffset> o = coarseOffsets(tol, 2, 10);
+  ASSERT_EQ(o.size(), 5u * 6u + 3u);  // x, y, yaw both ways at 2, 4, 6, 8, 10 tolerances; turns
   EXPECT_EQ(o[0].name, "x+ x2");
   EXPECT_NEAR(o[0].delta.translation().x(), 0.6, 1e-12);
   EXPECT_EQ(o[9].name, "y- x4");
   EXPECT_NEAR(o[9].delta.translation().y(), -1.2, 1e-12);
-  EXPECT_EQ(o[16].name, "yaw+ x8");
-  EXPECT_NEAR(yawOf(o[16].delta), 40.0 * M_PI / 180.0, 1e-12);
-  EXPECT_EQ(o[18].name, "yaw+ 90 deg");
-  EXPECT_NEAR(yawOf(o[19].delta), -M_PI / 2, 1e-12);
-  EXPECT_NEAR(std::abs(yawOf(o[20].delta)), M_PI, 1e-12);
-  EXPECT_EQ(coarseOffsets(tol, 3, 1).size(), 12u + 3u);
+  EXPECT_EQ(o[13].name, "x- x6");
+  EXPECT_NEAR(o[13].delta.translation().x(), -1.8, 1e-12);
+  EXPECT_EQ(o[16].name, "yaw+ x6");
+  EXPECT_NEAR(yawOf(o[16].delta), 30.0 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(o[29].name, "yaw- x10");
+  EXPECT_NEAR(yawOf(o[29].delta), -50.0 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(o[30].name, "yaw+ 90 deg");
+  EXPECT_NEAR(yawOf(o[31].delta), -M_PI / 2, 1e-12);
+  EXPECT_NEAR(std::abs(yawOf(o[32].delta)), M_PI, 1e-12);
+  // An odd largest multiple stops at the even one below; 3D has six axes.
+  EXPECT_EQ(coarseOffsets(tol, 2, 9).size(), 4u * 6u + 3u);
+  EXPECT_EQ(coarseOffsets(tol, 3, 3).size(), 12u + 3u);
 }
 
 // Two tolerances (0.6 m, past the 0.5 m radius) along x and y: the pose is a local minimum of
@@ -48,7 +55,7 @@ TEST(CoarseProbe, StepsDoubleLevelByLevelThenTurn) {
 TEST(CoarseProbe, RejectsTwoTolerancesPastTheRadiusWithTheStepBack) {
   const YardPair p = yardPair(1);
   const CoralConfig coral = planarYardCoral();
-  const AlignmentVerdict gt = judgeAlignment(p.a, p.b, p.T_a_b, coral, gated(3, true));
+  const AlignmentVerdict gt = judgeAlignment(p.a, p.b, p.T_a_b, coral, gated(10, true));
   ASSERT_TRUE(gt.valid);
   EXPECT_TRUE(gt.aligned) << gt.rejected_by;
   ASSERT_TRUE(gt.coarse.valid);
@@ -65,7 +72,7 @@ TEST(CoarseProbe, RejectsTwoTolerancesPastTheRadiusWithTheStepBack) {
     ASSERT_TRUE(off.valid);
     EXPECT_TRUE(off.aligned) << c.back << ": without the probe the error passes";
     EXPECT_FALSE(off.coarse.valid);  // not measured when off
-    const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, gated(3, false));
+    const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, gated(10, false));
     ASSERT_TRUE(v.valid);
     EXPECT_FALSE(v.relative.misaligned) << c.back;
     EXPECT_FALSE(v.aligned) << c.back;
@@ -84,11 +91,11 @@ TEST(CoarseProbe, RegistrationFromThePoseCatchesAnErrorBetweenTheSteps) {
   const YardPair p = yardPair(1);
   const CoralConfig coral = planarYardCoral();
   const Eigen::Isometry3d T = p.T_a_b * se2(0.75, 0, 0);
-  const AlignmentVerdict steps = judgeAlignment(p.a, p.b, T, coral, gated(3, false));
+  const AlignmentVerdict steps = judgeAlignment(p.a, p.b, T, coral, gated(10, false));
   ASSERT_TRUE(steps.valid);
   EXPECT_TRUE(steps.aligned) << steps.rejected_by;
   EXPECT_LT(steps.coarse.drop(), 0.0);
-  const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, gated(3, true));
+  const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, gated(10, true));
   ASSERT_TRUE(v.valid);
   EXPECT_FALSE(v.aligned);
   ASSERT_TRUE(v.coarse.registered);
@@ -100,19 +107,20 @@ TEST(CoarseProbe, RegistrationFromThePoseCatchesAnErrorBetweenTheSteps) {
   EXPECT_LT((back.translation() - p.T_a_b.translation()).norm(), 0.05);
   EXPECT_NE(v.rejected_by.find("registered from it"), std::string::npos) << v.rejected_by;
   // A margin above the drop keeps the pose (the margin is what decides).
-  VerdictConfig loose = gated(3, true);
+  VerdictConfig loose = gated(10, true);
   loose.gate.coarse_margin = v.coarse.drop() + 1e-9;
   EXPECT_TRUE(judgeAlignment(p.a, p.b, T, coral, loose).aligned);
 }
 
 TEST(CoarseProbe, ConfigOutOfRangeIsRefusedAndNamed) {
-  VerdictConfig v = gated(3, true);
+  VerdictConfig v = gated(10, true);
   EXPECT_EQ(v.validate(), "");
-  v.gate.coarse_levels = 5;
-  EXPECT_NE(v.validate().find("coarse_levels"), std::string::npos);
-  v.gate.coarse_levels = -1;
-  EXPECT_NE(v.validate().find("coarse_levels"), std::string::npos);
-  v.gate.coarse_levels = 3;
+  for (int bad : {-1, 1, 17}) {
+    v.gate.coarse_max_multiple = bad;
+    EXPECT_NE(v.validate().find("coarse_max_multiple"), std::string::npos) << bad;
+  }
+  v.gate.coarse_max_multiple = 16;
+  EXPECT_EQ(v.validate(), "");
   v.loop_closure.coarse_margin = -0.01;
   EXPECT_NE(v.validate().find("loop_closure"), std::string::npos);
   v.loop_closure.coarse_margin = std::nan("");

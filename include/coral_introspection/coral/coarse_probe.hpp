@@ -1,6 +1,6 @@
-// CorAl's Q (Eq. 5) at poses 2, 4, 8 ... tolerances, a quarter and a half turn away from the
+// CorAl's Q (Eq. 5) at poses 2, 4, 6 ... tolerances, a quarter and a half turn away from the
 // given pose, and at the pose a registration from it reaches (the gated verdict's coarse
-// probe, GateConfig::coarse_levels, coarse_registration). The relative check
+// probe, GateConfig::coarse_max_multiple, coarse_registration). The relative check
 // (relative_check.hpp) compares Q only with poses one tolerance away; past the CorAl radius Q
 // falls again, so a pose two or more tolerances off often sits on a local minimum of Q that a
 // one-tolerance step cannot leave, while a step of the error's own size lands at (or near)
@@ -31,12 +31,13 @@ struct CoarseProbeResult {
   double drop() const { return valid ? q - lowest_q : 0.0; }
 };
 
-// The steps probed with `levels` levels: both signs of every axis of toleranceAxes(dimension)
-// at 2^1 ... 2^levels tolerances, level by level ("x+ x2", "x- x2", ..., "yaw- x8"), then
-// turns of +90, -90 and 180 deg about z ("yaw+ 90 deg", "yaw- 90 deg", "yaw 180 deg"): a
-// corridor or a symmetric room seen turned round is a minimum no step of a few tolerances
-// leaves. None for levels <= 0.
-std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimension, int levels);
+// The steps probed up to `max_multiple` tolerances: both signs of every axis of
+// toleranceAxes(dimension) at 2, 4, 6, ... <= max_multiple tolerances, size by size ("x+ x2",
+// "x- x2", ..., "yaw- x10"), then turns of +90, -90 and 180 deg about z ("yaw+ 90 deg",
+// "yaw- 90 deg", "yaw 180 deg"): a corridor or a symmetric room seen turned round is a
+// minimum no step of a few tolerances leaves. None for max_multiple < 2.
+std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimension,
+                                           int max_multiple);
 
 // Q (the pair's probe queries, as the relative check) at T_a_b * delta for every step of
 // coarseOffsets; `at_pose_probe` is the pair's Q at T_a_b over the same queries, reused.
@@ -46,7 +47,7 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
 // registration, or no valid Q at the pose: an invalid result, nothing evaluated.
 CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                               const CoralResult& at_pose_probe, int dimension,
-                              const ToleranceConfig& tol, int levels,
+                              const ToleranceConfig& tol, int max_multiple,
                               const RegistrationConfig* registration = nullptr);
 
 }  // namespace coral

@@ -64,14 +64,17 @@ struct GateConfig {
   // other without coinciding. CorAl's own absolute test (a threshold on Q) as a loose bound
   // beside the classifier's (which weighs H_joint and H_sep apart).
   double max_quality = std::numeric_limits<double>::infinity();
-  // [-] coarse probe (coarse_probe.hpp): Q is evaluated 2, 4, ... 2^coarse_levels tolerances
-  // away along each axis, both ways, and a quarter and half turn about z away; the pose is
-  // rejected when one of them has Q lower by more than coarse_margin: the pose sits on a local
-  // minimum of Q past the CorAl radius that the relative check's one-tolerance steps cannot leave
-  // (most 2D errors of 2 tolerances or more that passed the other terms,
-  // doc/verdict_every_error.md). 0 = off, at most 4. Costs 2 x axes x levels + 3 probe evaluations
-  // (probe queries) per verdict.
-  int coarse_levels = 0;
+  // [tolerances] coarse probe (coarse_probe.hpp): Q is evaluated 2, 4, 6, ... (every even
+  // number up to this) tolerances away along each axis, both ways, and a quarter and half turn
+  // about z away; the pose is rejected when one of them has Q lower by more than coarse_margin:
+  // the pose sits on a local minimum of Q past the CorAl radius that the relative check's
+  // one-tolerance steps cannot leave (most 2D errors of 2 tolerances or more that passed the
+  // other terms, doc/verdict_every_error.md). Steps two tolerances apart leave every error along
+  // an axis up to the largest step within one tolerance of a step, the size the relative check
+  // resolves (powers of two left 6 and 10 tolerances two away from any step). 0 = off, else in
+  // [2, 16]. Costs 2 x axes x (coarse_max_multiple / 2) + 3 probe evaluations (probe queries)
+  // per verdict.
+  int coarse_max_multiple = 0;
   // The coarse probe also registers b onto a once from the pose (VerdictConfig::restart's
   // registration) and probes the result when it lies a tolerance or more away: errors between
   // the steps' sizes land off the narrow minimum of Q at the truth, a registration into it.
@@ -141,7 +144,7 @@ struct AlignmentVerdict {
   FreeSpaceResult free_space;
   // Measured when gate.min_constraint > 0 (whatever the method); invalid otherwise.
   ConstraintResult constraint;
-  // Measured when gate.coarse_levels > 0 or gate.coarse_registration and the method runs
+  // Measured when gate.coarse_max_multiple >= 2 or gate.coarse_registration and the method runs
   // the relative check (and it passed, unless measure_gate_terms); invalid otherwise.
   CoarseProbeResult coarse;
   bool valid = false;    // a verdict was reached

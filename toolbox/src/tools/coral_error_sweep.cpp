@@ -5,7 +5,9 @@
 // behind it, so decision rules can be compared offline; a summary per error size on stderr.
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
 //       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)]
-//       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--out FILE.csv]
+//       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--rows all|even|odd] [--out FILE.csv]
+// --rows even|odd: only the pairs of even / odd index (tuning and held-out halves), every
+// --stride-th of those.
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
 // "right": ground truth accepted (a valid, aligned verdict), an error not accepted (misaligned
 // or no verdict, e.g. no overlap left). Exit 0 on success, 2 with a message for bad arguments
@@ -32,7 +34,8 @@ namespace {
 constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
     "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] "
-    "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] [--out FILE.csv]";
+    "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] [--rows all|even|odd] "
+    "[--out FILE.csv]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
 
@@ -42,9 +45,10 @@ int main(int argc, char** argv) {
   eval::ToolArgs args;
   std::string err;
   int stride = 1;
-  if (!eval::parseToolArgs(argc, argv,
-                           {"--config", "--data", "--stride", "--multiples", "--yaw_deg", "--out"},
-                           {}, &args, &err) ||
+  if (!eval::parseToolArgs(
+          argc, argv,
+          {"--config", "--data", "--stride", "--multiples", "--yaw_deg", "--rows", "--out"}, {},
+          &args, &err) ||
       !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
   if (args.help) {
@@ -52,8 +56,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::string config = args.get("--config"), out_path = args.get("--out");
-  // --multiples: error sizes off the default grid (the coarse probe steps 2, 4, 8 tolerances:
-  // errors between them are the test of it).
+  // --multiples: error sizes off the default grid 1, 2, 4, 8, which the coarse probe's steps
+  // (2, 4, 6, 8 tolerances in lidar_2d) mostly coincide with: errors between them test it.
   std::vector<double> multiples;
   if (!eval::numberListOption(args, "--multiples", eval::sweepMultiples(), &multiples, &err))
     return fail(err);
@@ -69,6 +73,9 @@ int main(int argc, char** argv) {
   for (double d : yaw_degrees)
     if (!(d > 0.0 && d <= 180.0))
       return fail("--yaw_deg: " + std::to_string(d) + " is not an angle in (0, 180] deg");
+  const std::string rows = args.get("--rows", "all");
+  if (rows != "all" && rows != "even" && rows != "odd")
+    return fail("--rows must be all, even or odd (got '" + rows + "')");
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
   const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;
@@ -100,7 +107,8 @@ int main(int argc, char** argv) {
     if (!eval::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
     const std::vector<eval::SweepError> errors =
         eval::sweepErrors(verdict.tolerance, node.online.coral.dimension, multiples, yaw_degrees);
-    for (std::size_t i = 0; i < d.pairs.size(); i += static_cast<std::size_t>(stride)) {
+    const std::size_t first = rows == "odd" ? 1 : 0, step = (rows == "all" ? 1 : 2) * stride;
+    for (std::size_t i = first; i < d.pairs.size(); i += step) {
       const eval::ScanPair& p = d.pairs[i];
       for (const eval::SweepError& e : errors) {
         const online::PairJudgement j = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
