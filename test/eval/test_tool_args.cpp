@@ -111,3 +111,24 @@ TEST(ToolArgs, ReadCommandLineGivesTheExitStatus) {
   const char* typo[] = {"tool", "--confg", "a.yaml"};
   EXPECT_EQ(readCommandLine("tool", "usage: tool", 3, typo, {"--config"}, {}, &a), 2);
 }
+
+// --rows all|even|odd of coral_loop_eval and coral_error_sweep: the first choice when absent,
+// anything else refused with the choices named.
+TEST(ToolArgs, ChoiceOptionTakesOneOfTheChoicesOrRefusesWithThem) {
+  const std::vector<std::string> rows{"all", "even", "odd"};
+  auto choose = [&](int argc, const char* const* argv, std::string* out, std::string* err) {
+    ToolArgs a;
+    EXPECT_TRUE(parseToolArgs(argc, argv, {"--rows"}, {}, &a, err)) << *err;
+    return choiceOption(a, "--rows", rows, out, err);
+  };
+  std::string err, out;
+  const char* none[] = {"tool"};
+  ASSERT_TRUE(choose(1, none, &out, &err)) << err;
+  EXPECT_EQ(out, "all");
+  const char* odd[] = {"tool", "--rows", "odd"};
+  ASSERT_TRUE(choose(3, odd, &out, &err)) << err;
+  EXPECT_EQ(out, "odd");
+  const char* bad[] = {"tool", "--rows=Odd"};
+  EXPECT_FALSE(choose(2, bad, &out, &err));
+  EXPECT_EQ(err, "--rows must be all, even or odd (got 'Odd')");
+}

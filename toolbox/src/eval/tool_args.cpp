@@ -168,5 +168,17 @@ bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, 
   return false;
 }
 
+bool choiceOption(const ToolArgs& args, const std::string& option,
+                  const std::vector<std::string>& choices, std::string* out, std::string* error) {
+  *out = args.get(option, choices.empty() ? "" : choices.front());
+  std::string list;
+  for (std::size_t i = 0; i < choices.size(); ++i) {
+    if (choices[i] == *out) return true;
+    list += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i];
+  }
+  *error = option + " must be " + list + " (got '" + *out + "')";
+  return false;
+}
+
 }  // namespace eval
 }  // namespace coral_introspection

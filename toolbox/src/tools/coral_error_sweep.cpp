@@ -73,9 +73,8 @@ int main(int argc, char** argv) {
   for (double d : yaw_degrees)
     if (!(d > 0.0 && d <= 180.0))
       return fail("--yaw_deg: " + std::to_string(d) + " is not an angle in (0, 180] deg");
-  const std::string rows = args.get("--rows", "all");
-  if (rows != "all" && rows != "even" && rows != "odd")
-    return fail("--rows must be all, even or odd (got '" + rows + "')");
+  std::string rows;
+  if (!eval::choiceOption(args, "--rows", {"all", "even", "odd"}, &rows, &err)) return fail(err);
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
   const std::vector<std::string>& specs = args.values.at("--data");
   ros_adapters::NodeConfig node;

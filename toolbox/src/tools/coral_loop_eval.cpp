@@ -174,11 +174,11 @@ int main(int argc, char** argv) {
   const std::string config = args.get("--config"), keyframes = args.get("--keyframes"),
                     carmen = args.get("--carmen"), corrected = args.get("--corrected"),
                     out_path = args.get("--out"), out_dir = args.get("--out_dir"),
-                    rows = args.get("--rows", "all"), registration = args.get("--registration");
+                    registration = args.get("--registration");
   if (config.empty() || keyframes.empty() == carmen.empty() || carmen.empty() != corrected.empty())
     return fail("--config and either --keyframes or --carmen with --corrected are required");
-  if (rows != "all" && rows != "even" && rows != "odd")
-    return fail("--rows must be all, even or odd (got '" + rows + "')");
+  std::string rows;
+  if (!eval::choiceOption(args, "--rows", {"all", "even", "odd"}, &rows, &err)) return fail(err);
   // An optional number whose config validates it (absent: that back-end check is not run).
   auto checked = [&](const char* name, double* value,
                      const std::function<std::string()>& problems) {

@@ -62,6 +62,9 @@ bool intOption(const ToolArgs& args, const std::string& option, int fallback, in
 // An integer in [1, 10^9] (e.g. "--stride").
 bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, int* out,
                  std::string* error);
+// One of `choices` (the first when the option is not given), e.g. "--rows" all|even|odd.
+bool choiceOption(const ToolArgs& args, const std::string& option,
+                  const std::vector<std::string>& choices, std::string* out, std::string* error);
 
 }  // namespace eval
 }  // namespace coral_introspection
