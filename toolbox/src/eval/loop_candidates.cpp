@@ -29,9 +29,10 @@ std::string LoopCandidateConfig::validate() const {
                lookalike_min_distance)
       .require(max_correspondence > 0.0, "max_correspondence", "> 0 m", max_correspondence)
       .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
-      .require(dimension == 3 ? (registration == "gicp" || registration == "ndt")
-                              : (registration == "icp" || registration == "point_to_line"),
-               "registration must be gicp or ndt for 3D scans, icp or point_to_line for 2D "
+      .require(dimension == 3
+                   ? (registration == "gicp" || registration == "ndt" || registration == "icp")
+                   : (registration == "icp" || registration == "point_to_line"),
+               "registration must be gicp, ndt or icp for 3D scans, icp or point_to_line for 2D "
                "scans; got '" +
                    registration + "' for dimension " + std::to_string(dimension))
       .require(ndt_resolution > 0.0, "ndt_resolution", "> 0 m", ndt_resolution)
@@ -163,6 +164,16 @@ void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::I
     ndt.setStepSize(0.1);
     ndt.setTransformationEpsilon(0.01);
     result = align<pcl::PointXYZ>(&ndt, target, source, T_init, cfg, c);
+  } else if (cfg.dimension == 3 && cfg.registration == "icp") {
+    // Point-to-point ICP in 6 DoF with LIO-SAM's loop-closure settings: correspondences
+    // within twice its 15 m history search radius, 100 iterations, epsilons 1e-6.
+    LoopCandidateConfig lio_sam = cfg;
+    lio_sam.max_correspondence = 30.0;
+    lio_sam.max_iterations = 100;
+    pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+    icp.setTransformationEpsilon(1e-6);
+    icp.setEuclideanFitnessEpsilon(1e-6);
+    result = align<pcl::PointXYZ>(&icp, target, source, T_init, lio_sam, c);
   } else if (cfg.dimension == 3) {
     pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
     result = align<pcl::PointXYZ>(&gicp, target, source, T_init, cfg, c);

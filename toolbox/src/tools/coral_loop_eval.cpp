@@ -19,7 +19,7 @@
 // better alignment it finds is the candidate's refined pose (gate `refined`).
 //   rosrun coral_introspection coral_loop_eval --config PRESET.yaml
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
-//       [--rows all|even|odd] [--registration gicp|ndt (3D) | icp|point_to_line (2D)]
+//       [--rows all|even|odd] [--registration gicp|ndt|icp (3D) | icp|point_to_line (2D)]
 //       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
@@ -55,7 +55,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
-    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt (3D, default gicp) | "
+    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt|icp (3D, default gicp) "
+    "| "
     "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES "
     "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
 

@@ -3,8 +3,8 @@
 // LIO-SAM and hdl_graph_slam propose them, registered from the odometry's relative pose, and
 // (b) as look-alike places (any two scans, far apart in the reference) registered from
 // several headings, as a place recognizer's false match followed by ICP hands them over.
-// Registration is PCL's (GICP or NDT in 3D; point-to-point ICP with a planar estimator or
-// point-to-line ICP in 2D).
+// Registration is PCL's (GICP, NDT or point-to-point ICP in 3D; point-to-point ICP with a
+// planar estimator or point-to-line ICP in 2D).
 // Every registered candidate is labelled by its error against the reference relative pose:
 // true when within the tolerance, false when off by `false_multiple` tolerances or more
 // (those are "wrong but locally optimal": ICP converged there); in between it is left out.
@@ -23,7 +23,8 @@ namespace eval {
 struct LoopCandidateConfig {
   int dimension = 3;  // 2: planar registration (x, y, yaw), 3: 6 DoF
   // 3D: "gicp" (PCL GeneralizedIterativeClosestPoint) or "ndt" (PCL
-  // NormalDistributionsTransform, ndt_resolution cells), the two hdl_graph_slam offers.
+  // NormalDistributionsTransform, ndt_resolution cells), the two hdl_graph_slam offers, or
+  // "icp" (PCL point-to-point ICP, 6 DoF, as LIO-SAM registers its loop candidates).
   // 2D: "icp" (PCL point-to-point ICP, planar estimator) or "point_to_line" (PCL point-to-plane
   // ICP with 2D line normals, x, y, yaw: PL-ICP, as ROS's laser_scan_matcher registers scans).
   std::string registration = "gicp";
