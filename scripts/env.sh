@@ -41,21 +41,25 @@ coral_build() {
   force="$(coral_link_source "${CORAL_WS}")"
   launcher="$(coral_launcher_args)"
   jobs="$(nproc)"
+  # Every step exits on failure by itself: the caller's `set -e` does not reach into a
+  # subshell whose status is tested, and an interactive caller has none.
   (
-    cd "${CORAL_WS}"
+    cd "${CORAL_WS}" || exit 1
     # shellcheck disable=SC2086  # ${force}, ${launcher}: words or empty
     if [ "${1:-}" = "demo" ]; then
       catkin_make ${force} ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
         -j"${jobs}" coral_introspection_generate_messages coral_introspection_nodelets coral_demo_pair \
-        coral_sequence_demo
+        coral_sequence_demo || exit $?
     else
-      catkin_make ${force} ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}"
+      catkin_make ${force} ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+        -j"${jobs}" || exit $?
     fi
     if [ "${1:-}" = "tests" ]; then
       # shellcheck disable=SC2086
-      catkin_make ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -j"${jobs}" tests
+      catkin_make ${launcher} -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+        -j"${jobs}" tests || exit $?
     fi
-  )
+  ) || return $?
   coral_source_ws
 }
 

@@ -25,5 +25,7 @@ Eigen::Isometry3d se2(double x, double y, double yaw) {
   return T;
 }
 
+double yawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
+
 }  // namespace coral
 }  // namespace coral_introspection

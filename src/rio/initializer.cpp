@@ -1,5 +1,7 @@
 #include "coral_introspection/rio/initializer.hpp"
 
+#include "coral_introspection/coral/types.hpp"
+
 namespace coral_introspection {
 namespace rio {
 
@@ -27,7 +29,7 @@ Quat gravityAlignedOrientation(const Vec3& acc_mean) {
   const Vec3 a = acc_mean.normalized();
   Quat q = Quat::FromTwoVectors(a, Vec3::UnitZ());
   const Mat3 R = q.toRotationMatrix();
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  const double yaw = coral::yawOf(R);
   return (Eigen::AngleAxisd(-yaw, Vec3::UnitZ()) * q).normalized();
 }
 

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/verdict.hpp"
 #include "support/yard_pair.hpp"
 
@@ -13,7 +14,6 @@ using namespace coral_introspection::coral;
 using namespace coral_introspection::test;
 
 namespace {
-double yawOf(const Eigen::Isometry3d& T) { return std::atan2(T.linear()(1, 0), T.linear()(0, 0)); }
 
 VerdictConfig gated(int max_multiple, bool registration) {
   VerdictConfig v;
@@ -38,12 +38,12 @@ TEST(CoarseProbe, StepsTwoTolerancesApartThenTurn) {
   EXPECT_EQ(o[13].name, "x- x6");
   EXPECT_NEAR(o[13].delta.translation().x(), -1.8, 1e-12);
   EXPECT_EQ(o[16].name, "yaw+ x6");
-  EXPECT_NEAR(yawOf(o[16].delta), 30.0 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(yawOf(o[16].delta.linear()), 30.0 * M_PI / 180.0, 1e-12);
   EXPECT_EQ(o[29].name, "yaw- x10");
-  EXPECT_NEAR(yawOf(o[29].delta), -50.0 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(yawOf(o[29].delta.linear()), -50.0 * M_PI / 180.0, 1e-12);
   EXPECT_EQ(o[30].name, "yaw+ 90 deg");
-  EXPECT_NEAR(yawOf(o[31].delta), -M_PI / 2, 1e-12);
-  EXPECT_NEAR(std::abs(yawOf(o[32].delta)), M_PI, 1e-12);
+  EXPECT_NEAR(yawOf(o[31].delta.linear()), -M_PI / 2, 1e-12);
+  EXPECT_NEAR(std::abs(yawOf(o[32].delta.linear())), M_PI, 1e-12);
   // An odd largest multiple stops at the even one below; 3D has six axes.
   EXPECT_EQ(coarseOffsets(tol, 2, 9).size(), 4u * 6u + 3u);
   EXPECT_EQ(coarseOffsets(tol, 3, 3).size(), 12u + 3u);

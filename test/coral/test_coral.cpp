@@ -280,6 +280,20 @@ TEST(Coral, ConfigValidationNamesTheBadField) {
   EXPECT_NE(c.validate().find("min_neighbours"), std::string::npos);
 }
 
+// coral::yawOf (types.hpp), which every planar tool reads headings with: the inverse of se2's
+// rotation over the whole circle, and the heading of a ZYX rotation with roll and pitch.
+TEST(Types, YawOfInvertsSe2AndReadsTheHeadingOfZyx) {
+  for (double yaw = -3.1; yaw < 3.15; yaw += 0.2) {
+    EXPECT_NEAR(yawOf(se2(1.0, -2.0, yaw).linear()), yaw, 1e-12);
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
+    EXPECT_NEAR(yawOf(R), yaw, 1e-12);
+  }
+  EXPECT_NEAR(std::abs(yawOf(se2(0.0, 0.0, M_PI).linear())), M_PI, 1e-12);
+}
+
 TEST(CoralRealData, LidarPairReferenceTransformBeatsEveryTenCentimetreShift) {
   CORAL_REQUIRE_DATA("libpointmatcher_car_cloud");
   Scan a, b;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/verdict.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 #include "support/yard_pair.hpp"
@@ -24,8 +25,7 @@ TEST(Tolerance, OffsetsPerDimensionWithSizesAndNames) {
   for (int i = 0; i < 6; ++i) EXPECT_EQ(o2[i].name, names[i]);
   EXPECT_TRUE(o2[1].delta.translation().isApprox(Eigen::Vector3d(-0.4, 0, 0)));
   EXPECT_TRUE(o2[1].delta.linear().isIdentity());
-  EXPECT_NEAR(std::atan2(o2[4].delta.linear()(1, 0), o2[4].delta.linear()(0, 0)), 3.0 * M_PI / 180,
-              1e-12);
+  EXPECT_NEAR(yawOf(o2[4].delta.linear()), 3.0 * M_PI / 180, 1e-12);
   EXPECT_TRUE(o2[4].delta.translation().isZero());
   const std::vector<ToleranceOffset> o3 = toleranceOffsets(tol, 3);
   ASSERT_EQ(o3.size(), 12u);

@@ -4,15 +4,14 @@
 #include <cmath>
 #include <string>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/error_sweep.hpp"
 
 using namespace coral_introspection;
 
 namespace {
 
-double yawDeg(const Eigen::Isometry3d& d) {
-  return std::atan2(d.linear()(1, 0), d.linear()(0, 0)) * 180.0 / M_PI;
-}
+double yawDeg(const Eigen::Isometry3d& d) { return coral::yawOf(d.linear()) * 180.0 / M_PI; }
 
 }  // namespace
 

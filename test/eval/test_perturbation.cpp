@@ -49,7 +49,7 @@ TEST(Perturbation, LidarProtocolCombinesTranslationAndYaw) {
   for (const auto& p : ps) {
     EXPECT_DOUBLE_EQ(std::abs(p.dyaw), 0.1);
     const Eigen::Isometry3d D = T_a_b.inverse() * perturb(T_a_b, p);  // = Delta in b's frame
-    EXPECT_NEAR(std::atan2(D.linear()(1, 0), D.linear()(0, 0)), p.dyaw, 1e-12);
+    EXPECT_NEAR(yawOf(D.linear()), p.dyaw, 1e-12);
     EXPECT_NEAR(D.translation().head<2>().norm(), 0.1, 1e-12);
     // A point 10 m ahead of b is displaced by the yaw about b's origin plus the offset.
     const Vec3 q(10.0, 0.0, 0.0);

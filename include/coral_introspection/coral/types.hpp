@@ -31,5 +31,9 @@ Scan transformScan(const Scan& scan, const Eigen::Isometry3d& T_dst_src);
 // SE(2) pose (x, y, yaw) as an Isometry3d rotating about z.
 Eigen::Isometry3d se2(double x, double y, double yaw);
 
+// Yaw [rad] of R: the angle about z of its x axis projected on the x-y plane (for R = Rz(yaw),
+// the inverse of se2's rotation; for a 3D rotation, the heading of ZYX Euler angles).
+double yawOf(const Eigen::Matrix3d& R);
+
 }  // namespace coral
 }  // namespace coral_introspection

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 
 namespace coral_introspection {
@@ -54,7 +55,7 @@ RelationError relationError(const LogNodes& nodes, const coral::Isometries& T_wo
     const Eigen::Isometry3d est = (T_world_node[k1] * A1).inverse() * (T_world_node[k2] * A2);
     const Eigen::Isometry3d d = r.T_1_2.inverse() * est;
     const double t = d.translation().head<2>().norm();
-    const double a = std::abs(std::atan2(d.linear()(1, 0), d.linear()(0, 0))) * 180.0 / M_PI;
+    const double a = std::abs(coral::yawOf(d.linear())) * 180.0 / M_PI;
     ++e.n;
     e.translation += t;
     e.rotation_deg += a;

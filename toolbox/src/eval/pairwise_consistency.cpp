@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/validation.hpp"
 #include "coral_introspection/rio/so3.hpp"
 
@@ -43,7 +44,7 @@ struct Tangent {
   static Vec error(const Eigen::Isometry3d& T) {
     Vec e;
     if constexpr (N == 3) {
-      e << T.translation().x(), T.translation().y(), std::atan2(T.linear()(1, 0), T.linear()(0, 0));
+      e << T.translation().x(), T.translation().y(), coral::yawOf(T.linear());
     } else {
       e << T.translation(), rio::logQ(Eigen::Quaterniond(T.linear()));
     }

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "coral_introspection/coral/refinement.hpp"
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/validation.hpp"
 #include "coral_introspection/eval/trajectory_metrics.hpp"
 
@@ -18,8 +19,6 @@ namespace coral_introspection {
 namespace eval {
 
 namespace {
-
-double yawOf(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
 // SE(3) edge on blocks (p, q) with q in Eigen order (x, y, z, w). Residual: translation and
 // rotation vector of T_ij^-1 T_i^-1 T_j (the R^3 x SO(3) log, equal to the SE(3) Log to first
@@ -148,7 +147,7 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
     if (planar) {
       b[0] = T.translation().x();
       b[1] = T.translation().y();
-      b[2] = yawOf(T.linear());
+      b[2] = coral::yawOf(T.linear());
       problem.AddParameterBlock(b, 3);
       if (k == 0) problem.SetParameterBlockConstant(b);
     } else {
@@ -169,7 +168,7 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
     double *a = x[e.from].data(), *b = x[e.to].data();
     if (planar) {
       auto* c = new PlanarEdgeCost{e.T_from_to.translation().x(), e.T_from_to.translation().y(),
-                                   yawOf(e.T_from_to.linear()), ist, isr};
+                                   coral::yawOf(e.T_from_to.linear()), ist, isr};
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PlanarEdgeCost, 3, 3, 3>(c), loss, a,
                                b);
     } else {
@@ -202,7 +201,7 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
     const double* b = x[k].data();
     if (planar) {
       // Keep roll/pitch: R = Rz(yaw) R_rp with R_rp = Rz(yaw0)^T R0; z is kept as well.
-      const Eigen::AngleAxisd yaw0(yawOf(T.linear()), Eigen::Vector3d::UnitZ());
+      const Eigen::AngleAxisd yaw0(coral::yawOf(T.linear()), Eigen::Vector3d::UnitZ());
       const Eigen::Matrix3d R_rp = yaw0.toRotationMatrix().transpose() * T.linear();
       T.linear() = Eigen::AngleAxisd(b[2], Eigen::Vector3d::UnitZ()).toRotationMatrix() * R_rp;
       T.translation().head<2>() = Eigen::Vector2d(b[0], b[1]);

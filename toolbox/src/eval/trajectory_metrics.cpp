@@ -7,6 +7,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "coral_introspection/coral/types.hpp"
+
 namespace coral_introspection {
 namespace eval {
 
@@ -99,10 +101,7 @@ LoopError loopError(const std::vector<StampedPose>& tr) {
   const coral::Vec3 d = tr.back().p - tr.front().p;
   e.horizontal = d.head<2>().norm();
   e.vertical = d.z();
-  auto yaw = [](const Quat& q) {
-    const coral::Mat3 R = q.toRotationMatrix();
-    return std::atan2(R(1, 0), R(0, 0));
-  };
+  auto yaw = [](const Quat& q) { return coral::yawOf(q.toRotationMatrix()); };
   const double yaw0 = yaw(tr.front().q);
   // The start-heading frame: the TI loop's independent end pose is given in it.
   e.x = std::cos(yaw0) * d.x() + std::sin(yaw0) * d.y();

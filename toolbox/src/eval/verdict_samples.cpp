@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "coral_introspection/coral/coral_pair.hpp"
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
@@ -149,7 +150,7 @@ std::vector<Sample> pairSamples(const std::string& dataset, int pair_index,
     x.label = spec.label;
     x.dx = delta.translation().x();  // 0 for the exact pose
     x.dy = delta.translation().y();
-    x.dyaw = std::atan2(delta.linear()(1, 0), delta.linear()(0, 0));
+    x.dyaw = coral::yawOf(delta.linear());
     const std::array<double, 3> c = eval.at(delta);
     x.features = {{c[0], c[1]}, {eval.probeQ(delta)}};  // the relative check's Q: probe queries
     for (const coral::ToleranceOffset& o : offsets)

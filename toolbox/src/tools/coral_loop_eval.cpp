@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/carmen_loops.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
@@ -300,8 +301,7 @@ int main(int argc, char** argv) {
       // The candidate's transform (b in a's frame) as judged: coral_check --transform_file.
       const Eigen::Vector3d t = c.T_a_b.translation();
       const Eigen::Matrix3d R = c.T_a_b.rotation();
-      out << t.x() << ',' << t.y() << ',' << t.z() << ','
-          << std::atan2(R(1, 0), R(0, 0)) * 180.0 / M_PI << "\n";
+      out << t.x() << ',' << t.y() << ',' << t.z() << ',' << coral::yawOf(R) * 180.0 / M_PI << "\n";
     }
   }
 
