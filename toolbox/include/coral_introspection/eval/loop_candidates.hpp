@@ -24,7 +24,9 @@ struct LoopCandidateConfig {
   int dimension = 3;  // 2: planar registration (x, y, yaw), 3: 6 DoF
   // 3D: "gicp" (PCL GeneralizedIterativeClosestPoint) or "ndt" (PCL
   // NormalDistributionsTransform, ndt_resolution cells), the two hdl_graph_slam offers, or
-  // "icp" (PCL point-to-point ICP, 6 DoF, as LIO-SAM registers its loop candidates).
+  // "icp" (PCL point-to-point ICP, 6 DoF, as LIO-SAM registers its loop candidates; with
+  // LIO-SAM's 30 m correspondences and 100 iterations in place of max_correspondence and
+  // max_iterations).
   // 2D: "icp" (PCL point-to-point ICP, planar estimator) or "point_to_line" (PCL point-to-plane
   // ICP with 2D line normals, x, y, yaw: PL-ICP, as ROS's laser_scan_matcher registers scans).
   std::string registration = "gicp";
