@@ -56,10 +56,9 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
-    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt|icp (3D, default gicp) "
-    "| "
-    "icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES "
-    "(e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
+    "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt|icp (3D, default "
+    "gicp) | icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] "
+    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
