@@ -139,9 +139,6 @@ TEST_F(CoralCheck, IdenticalPointsGiveNoVerdictWithAReason) {
 
 TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
   const std::string missing = tempPath("cc_missing", ".pcd");
-  struct Case {
-    std::string args, expect;
-  };
   const std::string radar_preset = tempPath("cc_radar", ".yaml");
   std::ofstream(radar_preset) << "input_type: polar_image\n";
   const std::string bad_preset = tempPath("cc_badp", ".yaml");
@@ -154,28 +151,28 @@ TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
                            << std::string("\1\0\0\0\0\0\0\0\2\0\0\0\0\0\0\0\3\0\0\0\0\0\0\0", 24);
   const std::string shear = tempPath("cc_shear", ".txt");
   std::ofstream(shear) << "1 0.5 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
-  const Case cases[] = {
-      {"--config " + preset_ + " --a " + missing + " --b " + b_ + " --transform_file " + t_good_,
-       missing},
-      {args(shear), "orthonormal"},
-      {"--config " + radar_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
-       "polar_image"},
-      {"--config " + bad_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
-       "radius"},
-      {"--config " + probe_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
-       "classifier/probe_queries must be 0 (every CorAl query) or >= 50"},
-      {"--config " + preset_ + " --a " + int64_pcd + " --b " + b_ + " --transform_file " + t_good_,
-       "field 'x' is TYPE / SIZE I 8 (int64): coordinates are read from F 4 or F 8 only"},
-      {args(t_good_) + " --repeat 0", "--repeat"},
-      {args(t_good_) + " --bogus 1", "unknown argument"},
-      {"--config " + preset_ + " --a " + a_, "required"},
-  };
-  for (const Case& c : cases) {
-    const CheckRun r = runCheck(c.args);
-    EXPECT_EQ(r.status, 2) << c.args;
-    EXPECT_TRUE(r.out.empty()) << r.out;
-    EXPECT_NE(r.err.find(c.expect), std::string::npos) << "stderr: " << r.err;
-  }
+  coral_test::expectRefused(
+      CORAL_CHECK_EXE,
+      {
+          {"--config " + preset_ + " --a " + missing + " --b " + b_ + " --transform_file " +
+               t_good_,
+           missing},
+          {args(shear), "orthonormal"},
+          {"--config " + radar_preset + " --a " + a_ + " --b " + b_ + " --transform_file " +
+               t_good_,
+           "polar_image"},
+          {"--config " + bad_preset + " --a " + a_ + " --b " + b_ + " --transform_file " + t_good_,
+           "radius"},
+          {"--config " + probe_preset + " --a " + a_ + " --b " + b_ + " --transform_file " +
+               t_good_,
+           "classifier/probe_queries must be 0 (every CorAl query) or >= 50"},
+          {"--config " + preset_ + " --a " + int64_pcd + " --b " + b_ + " --transform_file " +
+               t_good_,
+           "field 'x' is TYPE / SIZE I 8 (int64): coordinates are read from F 4 or F 8 only"},
+          {args(t_good_) + " --repeat 0", "--repeat"},
+          {args(t_good_) + " --bogus 1", "unknown argument"},
+          {"--config " + preset_ + " --a " + a_, "required"},
+      });
 }
 
 // Issue 23: a preset with `coarl:` for `coral:` (or `coral:` given twice) was loaded without a

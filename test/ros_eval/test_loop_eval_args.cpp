@@ -9,25 +9,19 @@
 TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
   const std::string config = coral_test::sourceDir() + "/config/lidar_3d.yaml";
   const std::string base = "--config " + config + " --keyframes /nonexistent_keyframes ";
-  const struct {
-    std::string args, reason;
-  } cases[] = {
-      {base + "--pcm 1", "--pcm: probability must be in (0, 1)"},
-      {base + "--pcm 0", "--pcm: probability must be in (0, 1)"},
-      {base + "--pcm often", "--pcm must be a number"},
-      {base + "--prune 0", "--prune: max_residual must be > 0"},
-      {base + "--prune 3 --pcm 2", "--pcm: probability"},
-      {base + "--rows middle", "--rows must be all, even or odd"},
-      {base + "--pcn 0.99", "--pcn"},  // a misspelt option is not ignored
-      // The restart check is the preset's (loop_closure/restarts) since 2026-12-03: the old
-      // flag is refused, not ignored.
-      {base + "--restarts", "--restarts"},
-      {"--keyframes /nonexistent_keyframes", "--config and either --keyframes or --carmen"},
-  };
-  for (const auto& c : cases) {
-    const coral_test::ToolRun r = coral_test::runTool(CORAL_LOOP_EVAL_EXE, c.args);
-    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
-    EXPECT_NE(r.err.find(c.reason), std::string::npos) << c.args << "\n" << r.err;
-    EXPECT_EQ(r.out, "") << c.args;
-  }
+  coral_test::expectRefused(
+      CORAL_LOOP_EVAL_EXE,
+      {
+          {base + "--pcm 1", "--pcm: probability must be in (0, 1)"},
+          {base + "--pcm 0", "--pcm: probability must be in (0, 1)"},
+          {base + "--pcm often", "--pcm must be a number"},
+          {base + "--prune 0", "--prune: max_residual must be > 0"},
+          {base + "--prune 3 --pcm 2", "--pcm: probability"},
+          {base + "--rows middle", "--rows must be all, even or odd"},
+          {base + "--pcn 0.99", "--pcn"},  // a misspelt option is not ignored
+          // The restart check is the preset's (loop_closure/restarts) since 2026-12-03: the old
+          // flag is refused, not ignored.
+          {base + "--restarts", "--restarts"},
+          {"--keyframes /nonexistent_keyframes", "--config and either --keyframes or --carmen"},
+      });
 }

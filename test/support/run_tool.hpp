@@ -1,12 +1,14 @@
 // Runs a command-line tool of the package for a test: its exit status, stdout and stderr.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "support/test_data.hpp"
 
@@ -33,6 +35,20 @@ inline ToolRun runTool(const std::string& exe, const std::string& args) {
   r.err = ss.str();
   std::remove(err_path.c_str());
   return r;
+}
+
+// A command line a tool must refuse: exit 2, `reason` on stderr, nothing on stdout (no output
+// a script could take for a result). Each case failing adds a gtest failure naming its args.
+struct RefusedCase {
+  std::string args, reason;
+};
+inline void expectRefused(const std::string& exe, const std::vector<RefusedCase>& cases) {
+  for (const RefusedCase& c : cases) {
+    const ToolRun r = runTool(exe, c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.reason), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_EQ(r.out, "") << c.args;
+  }
 }
 
 }  // namespace coral_test

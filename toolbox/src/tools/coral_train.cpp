@@ -98,14 +98,32 @@ Output:
   --help                  this text
 )";
 
-std::vector<double> parseList(const std::string& s) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty()) v.push_back(std::stod(item));
-  return v;
-}
+// The typed options of this tool, read whole (eval/tool_args.hpp): a value that is not such a
+// number ("0.5x", "12.7" for a count, "1,,2") throws naming the option, and main() exits 2.
+// std::stod / std::stoi read "0.5x" as 0.5 and "12.7" as 12.
+struct NumberOptions {
+  const ToolArgs& args;
+  double number(const std::string& option, double fallback) const {
+    double v = fallback;
+    std::string err;
+    if (!numberOption(args, option, fallback, &v, &err)) throw std::invalid_argument(err);
+    return v;
+  }
+  int count(const std::string& option, int fallback) const {  // an integer >= 0
+    int v = fallback;
+    std::string err;
+    if (!intOption(args, option, fallback, 0, 1000000000, &v, &err))
+      throw std::invalid_argument(err);
+    return v;
+  }
+  std::vector<double> numbers(const std::string& option,
+                              const std::vector<double>& fallback) const {
+    std::vector<double> v;
+    std::string err;
+    if (!numberListOption(args, option, fallback, &v, &err)) throw std::invalid_argument(err);
+    return v;
+  }
+};
 
 void progressBar(const char* what, std::size_t done, std::size_t total) {
   const int width = 40;
@@ -158,7 +176,8 @@ bool loadSet(const Input& in, const OxfordTrainingConfig& ocfg,
 }
 
 // --preset: the tolerance mode (ros_eval/verdict_training.hpp).
-int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::string>& datasets,
+int verdictMode(std::map<std::string, std::string>& opt, const NumberOptions& num,
+                const std::vector<std::string>& datasets,
                 const std::vector<std::string>& sample_files, const std::string& command) {
   for (const char* k : {"--oxford", "--bag", "--test_oxford", "--test_bag", "--magnitudes"})
     if (opt.count(k)) {
@@ -173,11 +192,11 @@ int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::
   try {
     if (opt.count("--output")) v.output_dir = opt["--output"];
     v.write_csv = !opt.count("--no_csv");
-    if (opt.count("--threads")) v.threads = std::stoi(opt["--threads"]);
-    if (opt.count("--max_scans")) v.max_scans = std::stoi(opt["--max_scans"]);
-    if (opt.count("--folds")) v.folds = std::stoi(opt["--folds"]);
-    if (opt.count("--relative_margin")) v.relative_margin = std::stod(opt["--relative_margin"]);
-    if (opt.count("--aligned_spread")) v.aligned_spread = std::stod(opt["--aligned_spread"]);
+    v.threads = num.count("--threads", v.threads);
+    v.max_scans = num.count("--max_scans", v.max_scans);
+    v.folds = num.count("--folds", v.folds);
+    v.relative_margin = num.number("--relative_margin", v.relative_margin);
+    v.aligned_spread = num.number("--aligned_spread", v.aligned_spread);
     if (opt.count("--scan_topic")) v.bag_scan_topic = opt["--scan_topic"];
     if (opt.count("--odom_topic")) v.bag_odom_topic = opt["--odom_topic"];
     if (opt.count("--fixed_frame")) v.bag_fixed_frame = opt["--fixed_frame"];
@@ -185,8 +204,11 @@ int verdictMode(std::map<std::string, std::string>& opt, const std::vector<std::
       const std::string& s = opt["--shard"];
       const std::size_t slash = s.find('/');
       if (slash == std::string::npos) throw std::invalid_argument("--shard needs I/N");
-      v.shard_index = std::stoi(s.substr(0, slash));
-      v.shard_count = std::stoi(s.substr(slash + 1));
+      ToolArgs parts;  // I and N, each read whole as a count
+      parts.values["--shard index"] = {s.substr(0, slash)};
+      parts.values["--shard count"] = {s.substr(slash + 1)};
+      v.shard_index = NumberOptions{parts}.count("--shard index", 0);
+      v.shard_count = NumberOptions{parts}.count("--shard count", 0);
     }
   } catch (const std::exception& e) {
     std::cerr << "coral_train: bad option value: " << e.what() << "\n";
@@ -247,7 +269,8 @@ int main(int argc, char** argv) {
   for (const std::string& f : args.flags) opt[f] = "1";
   const std::vector<std::string> datasets = args.all("--dataset"),
                                  sample_files = args.all("--samples");
-  if (opt.count("--preset")) return verdictMode(opt, datasets, sample_files, command);
+  const NumberOptions num{args};
+  if (opt.count("--preset")) return verdictMode(opt, num, datasets, sample_files, command);
   if (opt.count("--oxford") == opt.count("--bag")) {
     std::cerr << "coral_train: give exactly one of --oxford DIR and --bag FILE\n" << kUsage;
     return 2;
@@ -273,27 +296,27 @@ int main(int argc, char** argv) {
     // Defaults per sensor: Sec. V-A (radar) and Sec. IV (lidar) of the paper.
     PerturbationConfig pcfg =
         radar ? PerturbationConfig::radarProtocol() : PerturbationConfig::lidarProtocol();
-    if (opt.count("--magnitudes")) pcfg.translations = parseList(opt["--magnitudes"]);
-    pcfg.rotations = parseList(get("--rotations", ""));
-    if (opt.count("--combined_yaw")) pcfg.combined_yaw = std::stod(opt["--combined_yaw"]);
+    pcfg.translations = num.numbers("--magnitudes", pcfg.translations);
+    pcfg.rotations = num.numbers("--rotations", {});
+    pcfg.combined_yaw = num.number("--combined_yaw", pcfg.combined_yaw);
     FeatureConfig fcfg = radar ? FeatureConfig::radar() : FeatureConfig::lidar();
     if (sensor == "lidar2d") {
       fcfg.coral.dimension = fcfg.ndt.dimension = 2;
       fcfg.coral.radius = 0.5;
     }
-    fcfg.coral.radius = std::stod(get("--radius", std::to_string(fcfg.coral.radius)));
+    fcfg.coral.radius = num.number("--radius", fcfg.coral.radius);
     fcfg.ndt.voxel_size = 2.0 * fcfg.coral.radius;  // v = 2 r (Sec. IV-1 d)
-    fcfg.cfear.resolution = std::stod(get("--cfear_resolution", "3.0"));
+    fcfg.cfear.resolution = num.number("--cfear_resolution", 3.0);
     fcfg.with_cfear = radar && !opt.count("--no_cfear");
     OxfordTrainingConfig ocfg;
-    ocfg.rip.k = ocfg.cfear_k = std::stoi(get("--k", "12"));
-    ocfg.rip.z_min = std::stod(get("--z_min", "70"));
-    ocfg.rip.window = std::stoi(get("--window", "2"));
-    ocfg.rip.min_range = std::stod(get("--min_range", "2.5"));
-    ocfg.cfear_z_min = std::stod(get("--cfear_z_min", "60"));
+    ocfg.rip.k = ocfg.cfear_k = num.count("--k", 12);
+    ocfg.rip.z_min = num.number("--z_min", 70.0);
+    ocfg.rip.window = num.count("--window", 2);
+    ocfg.rip.min_range = num.number("--min_range", 2.5);
+    ocfg.cfear_z_min = num.number("--cfear_z_min", 60.0);
     ocfg.with_cfear = fcfg.with_cfear;
     ocfg.motion_compensation = !opt.count("--no_motion_compensation");
-    ocfg.max_scans = std::stoi(get("--max_scans", "0"));
+    ocfg.max_scans = num.count("--max_scans", 0);
     ros_eval::BagTrainingOptions bcfg;
     bcfg.scan_topic = get("--scan_topic", "/scan");
     bcfg.odom_topic = get("--odom_topic", "");
@@ -307,9 +330,9 @@ int main(int argc, char** argv) {
     bcfg.max_scans = ocfg.max_scans;
     TrainingRunConfig rcfg;
     rcfg.output_dir = get("--output", "coral_train_output");
-    rcfg.evaluation.folds = std::stoi(get("--folds", "5"));
-    rcfg.evaluation.regression.ridge = std::stod(get("--ridge", "0.001"));
-    rcfg.evaluation.regression.threshold = std::stod(get("--threshold", "0.5"));
+    rcfg.evaluation.folds = num.count("--folds", 5);
+    rcfg.evaluation.regression.ridge = num.number("--ridge", 0.001);
+    rcfg.evaluation.regression.threshold = num.number("--threshold", 0.5);
     rcfg.classifier_method = get("--classifier_method", "CorAl");
     rcfg.classifier_group = get("--classifier_group", "");
     rcfg.write_csv = !opt.count("--no_csv");
@@ -320,7 +343,7 @@ int main(int argc, char** argv) {
         std::cerr << "coral_train: invalid configuration: " << e << "\n";
         return 2;
       }
-    const double spacing = std::stod(get("--spacing", "0"));
+    const double spacing = num.number("--spacing", 0.0);
     const std::vector<Perturbation> perts = makePerturbations(pcfg);
 
     SampleSet train, test;
@@ -383,7 +406,7 @@ int main(int argc, char** argv) {
     std::cout << res.report << "\nWrote " << rcfg.output_dir
               << "/{classifier.yaml, report.md, roc.png" << (rcfg.write_csv ? ", samples.csv" : "")
               << "}\n";
-  } catch (const std::exception& e) {  // std::stod on a malformed number
+  } catch (const std::exception& e) {  // NumberOptions on a malformed number
     std::cerr << "coral_train: bad option value: " << e.what() << "\n";
     return 2;
   }
