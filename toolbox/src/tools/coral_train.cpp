@@ -284,7 +284,9 @@ int main(int argc, char** argv) {
     // Radar defaults for an Oxford folder or a bag whose scan topic carries polar images.
     const bool images =
         !train_in.bag.empty() &&
-        ros_eval::bagTopicType(train_in.bag, get("--scan_topic", "/scan")) == "sensor_msgs/Image";
+        ros_eval::bagTopicType(train_in.bag,
+                               get("--scan_topic", ros_eval::BagTrainingOptions().scan_topic)) ==
+            "sensor_msgs/Image";
     const std::string sensor =
         get("--sensor", train_in.oxford.empty() && !images ? "lidar3d" : "radar");
     if (sensor != "radar" && sensor != "lidar3d" && sensor != "lidar2d") {
@@ -306,21 +308,21 @@ int main(int argc, char** argv) {
     }
     fcfg.coral.radius = num.number("--radius", fcfg.coral.radius);
     fcfg.ndt.voxel_size = 2.0 * fcfg.coral.radius;  // v = 2 r (Sec. IV-1 d)
-    fcfg.cfear.resolution = num.number("--cfear_resolution", 3.0);
+    fcfg.cfear.resolution = num.number("--cfear_resolution", fcfg.cfear.resolution);
     fcfg.with_cfear = radar && !opt.count("--no_cfear");
     OxfordTrainingConfig ocfg;
-    ocfg.rip.k = ocfg.cfear_k = num.count("--k", 12);
-    ocfg.rip.z_min = num.number("--z_min", 70.0);
-    ocfg.rip.window = num.count("--window", 2);
-    ocfg.rip.min_range = num.number("--min_range", 2.5);
-    ocfg.cfear_z_min = num.number("--cfear_z_min", 60.0);
+    ocfg.rip.k = ocfg.cfear_k = num.count("--k", ocfg.rip.k);
+    ocfg.rip.z_min = num.number("--z_min", ocfg.rip.z_min);
+    ocfg.rip.window = num.count("--window", ocfg.rip.window);
+    ocfg.rip.min_range = num.number("--min_range", ocfg.rip.min_range);
+    ocfg.cfear_z_min = num.number("--cfear_z_min", ocfg.cfear_z_min);
     ocfg.with_cfear = fcfg.with_cfear;
     ocfg.motion_compensation = !opt.count("--no_motion_compensation");
-    ocfg.max_scans = num.count("--max_scans", 0);
+    ocfg.max_scans = num.count("--max_scans", ocfg.max_scans);
     ros_eval::BagTrainingOptions bcfg;
-    bcfg.scan_topic = get("--scan_topic", "/scan");
-    bcfg.odom_topic = get("--odom_topic", "");
-    bcfg.fixed_frame = get("--fixed_frame", "odom");
+    bcfg.scan_topic = get("--scan_topic", bcfg.scan_topic);
+    bcfg.odom_topic = get("--odom_topic", bcfg.odom_topic);
+    bcfg.fixed_frame = get("--fixed_frame", bcfg.fixed_frame);
     bcfg.node.rip = ocfg.rip;
     bcfg.node.online.coral = fcfg.coral;
     bcfg.motion_compensation = ocfg.motion_compensation;
@@ -329,12 +331,13 @@ int main(int argc, char** argv) {
     bcfg.cfear_z_min = ocfg.cfear_z_min;
     bcfg.max_scans = ocfg.max_scans;
     TrainingRunConfig rcfg;
-    rcfg.output_dir = get("--output", "coral_train_output");
-    rcfg.evaluation.folds = num.count("--folds", 5);
-    rcfg.evaluation.regression.ridge = num.number("--ridge", 0.001);
-    rcfg.evaluation.regression.threshold = num.number("--threshold", 0.5);
-    rcfg.classifier_method = get("--classifier_method", "CorAl");
-    rcfg.classifier_group = get("--classifier_group", "");
+    rcfg.output_dir = get("--output", rcfg.output_dir);
+    rcfg.evaluation.folds = num.count("--folds", rcfg.evaluation.folds);
+    rcfg.evaluation.regression.ridge = num.number("--ridge", rcfg.evaluation.regression.ridge);
+    rcfg.evaluation.regression.threshold =
+        num.number("--threshold", rcfg.evaluation.regression.threshold);
+    rcfg.classifier_method = get("--classifier_method", rcfg.classifier_method);
+    rcfg.classifier_group = get("--classifier_group", rcfg.classifier_group);
     rcfg.write_csv = !opt.count("--no_csv");
     for (const std::string& e :
          {pcfg.validate(), fcfg.validate(), ocfg.validate(),
