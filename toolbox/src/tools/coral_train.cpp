@@ -207,8 +207,9 @@ int verdictMode(std::map<std::string, std::string>& opt, const NumberOptions& nu
       ToolArgs parts;  // I and N, each read whole as a count
       parts.values["--shard index"] = {s.substr(0, slash)};
       parts.values["--shard count"] = {s.substr(slash + 1)};
-      v.shard_index = NumberOptions{parts}.count("--shard index", 0);
-      v.shard_count = NumberOptions{parts}.count("--shard count", 0);
+      const NumberOptions shard{parts};
+      v.shard_index = shard.count("--shard index", v.shard_index);
+      v.shard_count = shard.count("--shard count", v.shard_count);
     }
   } catch (const std::exception& e) {
     std::cerr << "coral_train: bad option value: " << e.what() << "\n";
@@ -299,7 +300,7 @@ int main(int argc, char** argv) {
     PerturbationConfig pcfg =
         radar ? PerturbationConfig::radarProtocol() : PerturbationConfig::lidarProtocol();
     pcfg.translations = num.numbers("--magnitudes", pcfg.translations);
-    pcfg.rotations = num.numbers("--rotations", {});
+    pcfg.rotations = num.numbers("--rotations", pcfg.rotations);
     pcfg.combined_yaw = num.number("--combined_yaw", pcfg.combined_yaw);
     FeatureConfig fcfg = radar ? FeatureConfig::radar() : FeatureConfig::lidar();
     if (sensor == "lidar2d") {
