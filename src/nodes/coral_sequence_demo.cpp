@@ -48,10 +48,13 @@
 #include <vector>
 
 #include "coral_introspection/AlignmentQuality.h"
+#include "coral_introspection/config/param_tree.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 #include "coral_introspection/ros/conversions.hpp"
+#include "coral_introspection/ros/xmlrpc_tree.hpp"
 #include "coral_introspection/ros_eval/oxford_bag_writer.hpp"
 
+namespace config = coral_introspection::config;
 namespace coral = coral_introspection::coral;
 namespace eval = coral_introspection::eval;
 namespace ros_adapters = coral_introspection::ros_adapters;
@@ -104,44 +107,77 @@ struct DemoConfig {
   }
 };
 
-std::vector<int> parseIndices(const std::string& s) {
-  std::vector<int> out;
-  std::stringstream ss(s);
-  std::string tok;
-  while (std::getline(ss, tok, ',')) {
-    try {
-      if (tok.find_first_not_of(" ") != std::string::npos) out.push_back(std::stoi(tok));
-    } catch (const std::exception&) {
-      ROS_WARN("coral_sequence_demo: ignoring scan index '%s'", tok.c_str());
-    }
-  }
-  return out;
+// One entry of a scan-index list: a whole non-negative number ("3x", "2.5", "-1" are refused).
+bool parseIndex(const std::string& tok, int* out) {
+  const std::size_t b = tok.find_first_not_of(' '), e = tok.find_last_not_of(' ');
+  if (b == std::string::npos) return false;
+  const std::string t = tok.substr(b, e - b + 1);
+  if (t.find_first_not_of("0123456789") != std::string::npos || t.size() > 6) return false;
+  *out = std::stoi(t);
+  return true;
 }
 
-DemoConfig loadConfig(ros::NodeHandle& pnh) {
-  DemoConfig c;
-  pnh.param("mode", c.mode, c.mode);
-  pnh.param("num_scans", c.num_scans, c.num_scans);
-  pnh.param("rate", c.rate, c.rate);
-  pnh.param("step_length", c.step_length, c.step_length);
-  pnh.param("error_magnitude", c.error_magnitude, c.error_magnitude);
-  pnh.param("error_pattern", c.error_pattern, c.error_pattern);
-  std::string steps, spikes;
-  // Comma-separated lists so that roslaunch args can carry them ("10,20").
-  if (pnh.getParam("step_scans", steps)) c.step_scans = parseIndices(steps);
-  if (pnh.getParam("spike_scans", spikes)) c.spike_scans = parseIndices(spikes);
-  pnh.param("result_timeout", c.result_timeout, c.result_timeout);
-  pnh.param("start_timeout", c.start_timeout, c.start_timeout);
-  pnh.param("hold_misaligned", c.hold_misaligned, c.hold_misaligned);
-  pnh.param("start_delay", c.start_delay, c.start_delay);
-  pnh.param("seed", c.seed, c.seed);
-  pnh.param("fixed_frame", c.fixed_frame, c.fixed_frame);
-  pnh.param("sensor_frame", c.sensor_frame, c.sensor_frame);
-  pnh.param("oxford_folder", c.oxford_folder, c.oxford_folder);
-  pnh.param("bag", c.bag, c.bag);
-  pnh.param("image_topic", c.image_topic, c.image_topic);
-  pnh.param("result_file", c.result_file, c.result_file);
-  return c;
+// ~step_scans / ~spike_scans: comma-separated scan indices ("10,20"; demo.launch passes them
+// as strings so that roslaunch args can carry a list), one integer (`_spike_scans:=25` reaches
+// the parameter server as an int) or "" (none). A malformed entry fails the start: skipping it
+// would replay a sequence the user did not ask for and report its result.
+bool readIndices(config::ParamTree& t, const std::string& key, std::vector<int>* out) {
+  const config::ParamNode* n = t.root().child(key);
+  const char* expected = "comma-separated whole numbers >= 0";
+  if (n && n->kind == config::ParamNode::Kind::kScalar &&
+      n->scalar.type == config::Scalar::Type::kInt) {
+    int v = 0;
+    if (!t.get(key, &v)) return false;
+    if (v < 0) return t.fail("~" + key + " " + std::to_string(v) + ": a scan index is >= 0");
+    *out = {v};
+    return true;
+  }
+  if (n && !(n->kind == config::ParamNode::Kind::kScalar &&
+             n->scalar.type == config::Scalar::Type::kString))
+    return t.fail("~" + key + " " + n->describe() + ": not scan indices (" + expected + ")");
+  std::string s;
+  if (!t.get(key, &s)) return false;
+  if (!n) return true;  // absent: the default
+  std::vector<int> v;
+  std::stringstream ss(s);
+  for (std::string tok; std::getline(ss, tok, ',');) {
+    int i = 0;
+    if (!parseIndex(tok, &i))
+      return t.fail("~" + key + " '" + s + "': '" + tok + "' is not a scan index (" + expected +
+                    ")");
+    v.push_back(i);
+  }
+  if (!s.empty() && s.back() == ',')
+    return t.fail("~" + key + " '" + s + "': an empty entry after the last comma");
+  *out = v;
+  return true;
+}
+
+// Every ~parameter through one config::ParamTree: a value of the wrong type, a malformed scan
+// index or an unknown (misspelt) name fails the start with exit 2 and the reason, instead of
+// a default silently used.
+bool loadConfig(const ros::NodeHandle& pnh, DemoConfig* c, std::string* error) {
+  XmlRpc::XmlRpcValue v;
+  config::ParamTree t;
+  if (pnh.getParam(pnh.getNamespace(), v) && !ros_adapters::fromXmlRpc(v, &t, error)) return false;
+  // result_file first: a later failure is still reported there (scripts/demo.sh reads it).
+  const bool ok =
+      t.get("result_file", &c->result_file) && t.get("mode", &c->mode) &&
+      t.get("num_scans", &c->num_scans) && t.get("rate", &c->rate) &&
+      t.get("step_length", &c->step_length) && t.get("error_magnitude", &c->error_magnitude) &&
+      t.get("error_pattern", &c->error_pattern) && readIndices(t, "step_scans", &c->step_scans) &&
+      readIndices(t, "spike_scans", &c->spike_scans) &&
+      t.get("result_timeout", &c->result_timeout) && t.get("start_timeout", &c->start_timeout) &&
+      t.get("hold_misaligned", &c->hold_misaligned) && t.get("start_delay", &c->start_delay) &&
+      t.get("seed", &c->seed) && t.get("fixed_frame", &c->fixed_frame) &&
+      t.get("sensor_frame", &c->sensor_frame) && t.get("oxford_folder", &c->oxford_folder) &&
+      t.get("bag", &c->bag) && t.get("image_topic", &c->image_topic);
+  if (!ok) {
+    *error = t.error();
+    return false;
+  }
+  *error = t.unknownKeysMessage();
+  return error->empty();
 }
 
 // ~result_file: written whole to a temporary file, then renamed over it (a reader sees the
@@ -299,9 +335,11 @@ class ResultBox {
 int main(int argc, char** argv) {
   ros::init(argc, argv, "coral_sequence_demo");
   ros::NodeHandle nh, pnh("~");
-  const DemoConfig cfg = loadConfig(pnh);
+  DemoConfig cfg;
+  std::string load_error;
+  const bool loaded = loadConfig(pnh, &cfg, &load_error);
   writeResultFile(cfg.result_file, "pid " + std::to_string(getpid()) + "\n");
-  if (const std::string err = cfg.validate(); !err.empty()) {
+  if (const std::string err = loaded ? cfg.validate() : load_error; !err.empty()) {
     ROS_FATAL("coral_sequence_demo: invalid parameters: %s", err.c_str());
     return finish(cfg, 2, "[coral_sequence_demo] FAILED: invalid parameters: " + err + "\n");
   }
