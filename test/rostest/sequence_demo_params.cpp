@@ -6,8 +6,6 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "rostest_main.hpp"
@@ -28,10 +26,7 @@ Outcome startDemo(const std::string& params) {
       coral_test::runTool(CORAL_SEQUENCE_DEMO_EXE,
                           "__name:=demo_case_" + std::to_string(++n) + " _result_file:=" + file +
                               " _start_timeout:=1 _num_scans:=3 " + params);
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  o.result_file = s.str();
+  o.result_file = coral_test::readWholeFile(file);
   std::remove(file.c_str());
   return o;
 }

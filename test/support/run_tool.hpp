@@ -19,6 +19,14 @@ struct ToolRun {
   std::string out, err;
 };
 
+// A whole text file ("" when it cannot be read).
+inline std::string readWholeFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 // `exe args`, stdout captured through a pipe, stderr through a temp file (removed after).
 inline ToolRun runTool(const std::string& exe, const std::string& args) {
   const std::string err_path = tempPath("tool_err", ".txt");
@@ -29,10 +37,7 @@ inline ToolRun runTool(const std::string& exe, const std::string& args) {
   while (p && fgets(buf, sizeof(buf), p)) r.out += buf;
   const int st = p ? pclose(p) : -1;
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  std::ifstream e(err_path);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
+  r.err = readWholeFile(err_path);
   std::remove(err_path.c_str());
   return r;
 }
