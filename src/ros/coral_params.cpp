@@ -65,6 +65,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("gate/min_constraint", &o.verdict.gate.min_constraint) &&
       r.get("gate/constraint_beam_step_deg", &o.verdict.gate.constraint_beam_step_deg) &&
       r.get("gate/max_quality", &o.verdict.gate.max_quality) &&
+      r.get("gate/max_flat_axes", &o.verdict.gate.max_flat_axes) &&
       r.get("gate/coarse_max_multiple", &o.verdict.gate.coarse_max_multiple) &&
       r.get("gate/coarse_margin", &o.verdict.gate.coarse_margin) &&
       r.get("gate/coarse_registration", &o.verdict.gate.coarse_registration) &&
@@ -76,6 +77,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("loop_closure/constraint_beam_step_deg",
             &o.verdict.loop_closure.constraint_beam_step_deg) &&
       r.get("loop_closure/max_quality", &o.verdict.loop_closure.max_quality) &&
+      r.get("loop_closure/max_flat_axes", &o.verdict.loop_closure.max_flat_axes) &&
       r.get("loop_closure/coarse_max_multiple", &o.verdict.loop_closure.coarse_max_multiple) &&
       r.get("loop_closure/coarse_margin", &o.verdict.loop_closure.coarse_margin) &&
       r.get("loop_closure/coarse_registration", &o.verdict.loop_closure.coarse_registration) &&

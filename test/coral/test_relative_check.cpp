@@ -235,6 +235,27 @@ TEST(Verdict, GatedRejectsWhatTheGateRejectsAndNamesTheTerm) {
   v.gate.max_quality = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(v.validate().find("max_quality"), std::string::npos);
   v.gate.max_quality = std::numeric_limits<double>::infinity();
+  // max_flat_axes: with flat_ratio 0.99 every axis but the most sensitive one counts as flat
+  // at ground truth; the bound at that count passes, one below it rejects and names them.
+  v.relative.flat_ratio = 0.99;
+  r = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);
+  ASSERT_TRUE(r.aligned) << r.rejected_by;
+  const int n_flat = static_cast<int>(r.relative.flat_axes.size());
+  ASSERT_EQ(n_flat, 2);
+  v.gate.max_flat_axes = n_flat;
+  EXPECT_TRUE(judgeAlignment(p.a, p.b, p.T_a_b, coral, v).aligned);
+  v.gate.max_flat_axes = n_flat - 1;
+  r = judgeAlignment(p.a, p.b, p.T_a_b, coral, v);
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(r.aligned);
+  EXPECT_NE(r.rejected_by.find("gate: 2 flat axes ("), std::string::npos) << r.rejected_by;
+  v.gate.max_flat_axes = -2;
+  EXPECT_NE(v.validate().find("max_flat_axes"), std::string::npos);
+  v.gate.max_flat_axes = 6;
+  EXPECT_NE(v.validate().find("max_flat_axes"), std::string::npos);
+  v.gate.max_flat_axes = -1;  // off: flat axes are only reported
+  EXPECT_TRUE(judgeAlignment(p.a, p.b, p.T_a_b, coral, v).aligned);
+  v.relative.flat_ratio = RelativeCheckConfig().flat_ratio;
   r = judgeAlignment(p.a, p.b, p.T_a_b * se2(0.3, 0.0, 0.0), coral, v);
   EXPECT_FALSE(r.aligned);
   EXPECT_NE(r.rejected_by.find("relative check"), std::string::npos) << r.rejected_by;

@@ -176,6 +176,7 @@ std::string describe(const NodeConfig& c) {
     << "\ngate.min_constraint = " << c.online.verdict.gate.min_constraint
     << "\ngate.constraint_beam_step_deg = " << c.online.verdict.gate.constraint_beam_step_deg
     << "\ngate.max_quality = " << c.online.verdict.gate.max_quality
+    << "\ngate.max_flat_axes = " << c.online.verdict.gate.max_flat_axes
     << "\ngate.coarse_max_multiple = " << c.online.verdict.gate.coarse_max_multiple
     << "\ngate.coarse_margin = " << c.online.verdict.gate.coarse_margin
     << "\ngate.coarse_registration = " << c.online.verdict.gate.coarse_registration
@@ -187,6 +188,7 @@ std::string describe(const NodeConfig& c) {
     << "\nloop_closure.constraint_beam_step_deg = "
     << c.online.verdict.loop_closure.constraint_beam_step_deg
     << "\nloop_closure.max_quality = " << c.online.verdict.loop_closure.max_quality
+    << "\nloop_closure.max_flat_axes = " << c.online.verdict.loop_closure.max_flat_axes
     << "\nloop_closure.coarse_max_multiple = " << c.online.verdict.loop_closure.coarse_max_multiple
     << "\nloop_closure.coarse_margin = " << c.online.verdict.loop_closure.coarse_margin
     << "\nloop_closure.coarse_registration = " << c.online.verdict.loop_closure.coarse_registration

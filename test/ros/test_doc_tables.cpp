@@ -72,6 +72,10 @@ const std::vector<Row>& rows() {
        [](const Column& c) {
          return std::isfinite(c.gate.max_quality) ? num(c.gate.max_quality) : "";
        }},
+      {"flat axes <= (`max_flat_axes`)",
+       [](const Column& c) {
+         return c.gate.max_flat_axes >= 0 ? std::to_string(c.gate.max_flat_axes) : "";
+       }},
       {"relative margin", [](const Column& c) { return num(c.margin); }},
       {"coarse probe (`coarse_max_multiple`)",
        [](const Column& c) {

@@ -18,6 +18,8 @@ TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
           {base + "--prune 0", "--prune: max_residual must be > 0"},
           {base + "--prune 3 --pcm 2", "--pcm: probability"},
           {base + "--rows middle", "--rows must be all, even or odd"},
+          {base + "--lookalikes 0", "--lookalikes"},
+          {base + "--lookalikes 60x", "--lookalikes"},
           {base + "--pcn 0.99", "--pcn"},  // a misspelt option is not ignored
           // The restart check is the preset's (loop_closure/restarts) since 2026-12-03: the old
           // flag is refused, not ignored.

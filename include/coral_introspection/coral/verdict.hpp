@@ -64,6 +64,13 @@ struct GateConfig {
   // other without coinciding. CorAl's own absolute test (a threshold on Q) as a loose bound
   // beside the classifier's (which weighs H_joint and H_sep apart).
   double max_quality = std::numeric_limits<double>::infinity();
+  // How many axes the relative check may report flat at the pose (relative_check.hpp: Q
+  // changes along them by less than flat_ratio of the most sensitive axis); -1 = off. At a
+  // true pose Q rises along every axis alike; two look-alike places that registration fitted
+  // together often match along one direction only (a 3D scan turned by 60-130 deg onto another
+  // place: Q rises steeply in yaw and hardly along x, y, roll), so CorAl pins nothing there
+  // (doc/loop_closure.md, "Ten times the look-alike places"). In [-1, 5].
+  int max_flat_axes = -1;
   // [tolerances] coarse probe (coarse_probe.hpp): Q is evaluated 2, 4, 6, ... (every even
   // number up to this) tolerances away along each axis, both ways, and a quarter and half turn
   // about z away; the pose is rejected when one of them has Q lower by more than coarse_margin:

@@ -21,6 +21,7 @@
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt|icp (3D) | icp|point_to_line (2D)]
 //       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
+//       [--lookalikes N]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -28,6 +29,9 @@
 // registered again from a perturbed pose (labelled against the relation), edges between the
 // graph nodes their raw scans hang off (eval/log_nodes.hpp).
 // --rows even|odd: only every other candidate (tuning / held-out halves of the gate table).
+// --lookalikes N: look-alike scan pairs, each registered from every heading (default 40 in 3D,
+// 60 in 2D: eval::evaluationCandidates). They are spread evenly over the qualifying pairs, so
+// a multiple of the default holds the default's pairs and new ones (a larger false set).
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cmath>
@@ -58,7 +62,7 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt|icp (3D, default "
     "gicp) | icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] "
-    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)]";
+    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--lookalikes N]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -163,10 +167,11 @@ constexpr int kAttachLines = 10;
 int main(int argc, char** argv) {
   eval::ToolArgs args;
   std::string err;
-  if (!eval::parseToolArgs(argc, argv,
-                           {"--config", "--keyframes", "--carmen", "--corrected", "--out",
-                            "--out_dir", "--rows", "--registration", "--prune", "--pcm"},
-                           {}, &args, &err))
+  if (!eval::parseToolArgs(
+          argc, argv,
+          {"--config", "--keyframes", "--carmen", "--corrected", "--out", "--out_dir", "--rows",
+           "--registration", "--prune", "--pcm", "--lookalikes"},
+          {}, &args, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -211,6 +216,9 @@ int main(int argc, char** argv) {
   GraphSettings graph;
   eval::LoopCandidateConfig cand_cfg = eval::evaluationCandidates(dim, verdict.tolerance);
   if (!registration.empty()) cand_cfg.registration = registration;  // else the dimension's
+  if (!eval::positiveInt(args, "--lookalikes", cand_cfg.max_lookalike_pairs,
+                         &cand_cfg.max_lookalike_pairs, &err))
+    return fail(err);
   if (const std::string e = cand_cfg.validate(); !e.empty()) return fail("--registration: " + e);
   if (!keyframes.empty()) {
     if (!eval::loadKeyframeSequence(keyframes, eval::KeyframeSequenceConfig(), nullptr, &set.scans,
