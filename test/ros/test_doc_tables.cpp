@@ -10,23 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "coral_introspection/config/yaml_tree.hpp"
-#include "coral_introspection/ros/coral_params.hpp"
+#include "support/preset.hpp"
 #include "support/source_dir.hpp"
 
 namespace coral = coral_introspection::coral;
-namespace config = coral_introspection::config;
 namespace ros_adapters = coral_introspection::ros_adapters;
 
 namespace {
 
 coral::VerdictConfig presetVerdict(const std::string& name) {
-  const std::string path = coral_test::sourceDir() + "/config/" + name + ".yaml";
-  config::ParamTree tree;
   ros_adapters::NodeConfig c;
-  std::string err;
-  EXPECT_TRUE(config::loadYamlFile(path, &tree, &err)) << err;
-  EXPECT_TRUE(ros_adapters::loadNodeConfig(tree, &c, &err)) << path << ": " << err;
+  coral_test::loadPreset(name, &c);
   return c.online.verdict;
 }
 
