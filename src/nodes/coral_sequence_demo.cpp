@@ -49,6 +49,7 @@
 
 #include "coral_introspection/AlignmentQuality.h"
 #include "coral_introspection/config/param_tree.hpp"
+#include "coral_introspection/config/text_fields.hpp"
 #include "coral_introspection/eval/synthetic.hpp"
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/xmlrpc_tree.hpp"
@@ -107,13 +108,14 @@ struct DemoConfig {
   }
 };
 
-// One entry of a scan-index list: a whole non-negative number ("3x", "2.5", "-1" are refused).
+// One entry of a scan-index list: a whole number in [0, 999999], blanks around it allowed
+// ("10, 20"); "3x", "2.5", "-1" and "" are refused.
 bool parseIndex(const std::string& tok, int* out) {
   const std::size_t b = tok.find_first_not_of(' '), e = tok.find_last_not_of(' ');
-  if (b == std::string::npos) return false;
-  const std::string t = tok.substr(b, e - b + 1);
-  if (t.find_first_not_of("0123456789") != std::string::npos || t.size() > 6) return false;
-  *out = std::stoi(t);
+  long n = 0;
+  if (b == std::string::npos || !config::parseInteger(tok.substr(b, e - b + 1), 0, 999999, &n))
+    return false;
+  *out = static_cast<int>(n);
   return true;
 }
 
@@ -139,16 +141,15 @@ bool readIndices(config::ParamTree& t, const std::string& key, std::vector<int>*
   if (!t.get(key, &s)) return false;
   if (!n) return true;  // absent: the default
   std::vector<int> v;
-  std::stringstream ss(s);
-  for (std::string tok; std::getline(ss, tok, ',');) {
+  // config::splitFields keeps empty entries ("10,,20", "10,20,"), which parseIndex refuses.
+  for (const std::string& tok :
+       s.empty() ? std::vector<std::string>() : config::splitFields(s, ',')) {
     int i = 0;
     if (!parseIndex(tok, &i))
       return t.fail("~" + key + " '" + s + "': '" + tok + "' is not a scan index (" + expected +
                     ")");
     v.push_back(i);
   }
-  if (!s.empty() && s.back() == ',')
-    return t.fail("~" + key + " '" + s + "': an empty entry after the last comma");
   *out = v;
   return true;
 }

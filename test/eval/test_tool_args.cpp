@@ -80,16 +80,25 @@ TEST(ToolArgs, TypedValuesRefuseMalformedNumbers) {
   EXPECT_EQ(n, 7);
   EXPECT_FALSE(intOption(a, "--n", 0, 0, 5, &n, &err));
   EXPECT_EQ(err, "--n must be an integer in [0, 5] (got '7')");
-  EXPECT_FALSE(intOption(a, "--x", 0, -10, 10, &n, &err));    // not an integer
+  EXPECT_FALSE(intOption(a, "--x", 0, -10, 10, &n, &err));  // not an integer
+  const char* loose[] = {"tool", "--plus", "+3", "--blank", " 3", "--long", "99999999999999999999"};
+  ASSERT_TRUE(parseToolArgs(7, loose, {"--plus", "--blank", "--long"}, {}, &a, &err));
+  for (const char* o : {"--plus", "--blank", "--long"}) {  // whole integers only (strtol's slack)
+    EXPECT_FALSE(intOption(a, o, 0, -10, 10, &n, &err)) << o;
+    EXPECT_FALSE(positiveInt(a, o, 1, &n, &err)) << o;
+  }
   EXPECT_TRUE(intOption(a, "--absent", -1, 0, 5, &n, &err));  // the fallback is not checked
   EXPECT_EQ(n, -1);
 }
 
 TEST(ToolArgs, NumberListOptionTakesCommaSeparatedNumbersOrRefusesTheBadItem) {
   ToolArgs a;
-  const char* argv[] = {"tool", "--k", "1.5,2.5,10", "--bad", "1,abc,2", "--hole", "1,,2"};
+  const char* argv[] = {"tool",   "--k",  "1.5,2.5,10", "--bad", "1,abc,2", "--hole", "1,,2",
+                        "--tail", "1,2,", "--lead",     ",1",    "--empty", ""};
   std::string err;
-  ASSERT_TRUE(parseToolArgs(7, argv, {"--k", "--bad", "--hole", "--absent"}, {}, &a, &err));
+  ASSERT_TRUE(parseToolArgs(13, argv,
+                            {"--k", "--bad", "--hole", "--tail", "--lead", "--empty", "--absent"},
+                            {}, &a, &err));
   std::vector<double> k;
   EXPECT_TRUE(numberListOption(a, "--k", {9.0}, &k, &err));
   EXPECT_EQ(k, (std::vector<double>{1.5, 2.5, 10.0}));
@@ -99,6 +108,12 @@ TEST(ToolArgs, NumberListOptionTakesCommaSeparatedNumbersOrRefusesTheBadItem) {
   EXPECT_EQ(err, "--bad must be numbers separated by commas (got 'abc')");
   EXPECT_FALSE(numberListOption(a, "--hole", {}, &k, &err));
   EXPECT_EQ(k, (std::vector<double>{1.0, 2.0}));  // unchanged on refusal
+  // An empty entry at either end is refused too ("1,2," was once read as [1, 2]).
+  EXPECT_FALSE(numberListOption(a, "--tail", {}, &k, &err));
+  EXPECT_EQ(err, "--tail must be numbers separated by commas (got '')");
+  EXPECT_FALSE(numberListOption(a, "--lead", {}, &k, &err));
+  EXPECT_FALSE(numberListOption(a, "--empty", {}, &k, &err));
+  EXPECT_EQ(k, (std::vector<double>{1.0, 2.0}));
 }
 
 TEST(ToolArgs, ReadCommandLineGivesTheExitStatus) {

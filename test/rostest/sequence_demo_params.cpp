@@ -37,7 +37,7 @@ TEST(SequenceDemoParams, MalformedValuesFailTheStartWithTheReason) {
   } cases[] = {
       {"_step_scans:=3x", "'3x' is not a scan index"},
       {"_spike_scans:=\"4,,5\"", "'' is not a scan index"},
-      {"_spike_scans:=\"4,5,\"", "an empty entry after the last comma"},
+      {"_spike_scans:=\"4,5,\"", "~spike_scans '4,5,': '' is not a scan index"},
       {"_step_scans:=2.5", "~step_scans '2.5': not scan indices"},
       {"_spike_scans:=-1", "a scan index is >= 0"},
       {"_num_scans:=many", "num_scans"},

@@ -4,23 +4,14 @@
 #include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 
+#include "coral_introspection/config/text_fields.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
 namespace eval {
 
 namespace {
-
-std::vector<std::string> splitCommas(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string f;
-  while (std::getline(ss, f, ',')) out.push_back(f);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
 
 bool number(const std::string& s, double* v) {
   try {
@@ -39,7 +30,7 @@ bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error)
   if (!in) return coral::fail(error, "cannot open " + path);
   std::string line;
   if (!std::getline(in, line)) return coral::fail(error, path + ": empty file");
-  const std::vector<std::string> head = splitCommas(line);
+  const std::vector<std::string> head = config::splitFields(line, ',');
   const std::vector<std::string> fixed = {"pair", "stamp_a", "stamp_b", "offset", "dx",
                                           "dy",   "dyaw",    "group",   "label"};
   if (head.size() < fixed.size() || !std::equal(fixed.begin(), fixed.end(), head.begin()))
@@ -60,7 +51,7 @@ bool readSamplesCsv(const std::string& path, SampleSet* set, std::string* error)
   }
   for (std::size_t n = 2; std::getline(in, line); ++n) {
     if (line.empty()) continue;
-    const std::vector<std::string> f = splitCommas(line);
+    const std::vector<std::string> f = config::splitFields(line, ',');
     const std::string where = path + ":" + std::to_string(n);
     if (f.size() != head.size()) return coral::fail(error, where + ": wrong number of columns");
     Sample s;

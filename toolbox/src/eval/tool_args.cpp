@@ -5,7 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <sstream>
+
+#include "coral_introspection/config/text_fields.hpp"
 
 namespace coral_introspection {
 namespace eval {
@@ -114,8 +115,7 @@ bool numberListOption(const ToolArgs& args, const std::string& option,
     return true;
   }
   std::vector<double> list;
-  std::stringstream items(args.get(option));
-  for (std::string item; std::getline(items, item, ',');) {
+  for (const std::string& item : config::splitFields(args.get(option), ',')) {
     double x;
     if (!parseNumber(item, &x)) {
       *error = option + " must be numbers separated by commas (got '" + item + "')";
@@ -123,25 +123,9 @@ bool numberListOption(const ToolArgs& args, const std::string& option,
     }
     list.push_back(x);
   }
-  if (list.empty()) {
-    *error = option + " must be numbers separated by commas (got '" + args.get(option) + "')";
-    return false;
-  }
   *out = list;
   return true;
 }
-
-namespace {
-// The option's integer value in [min, max]; false when it is not one (message by the caller).
-bool parseInt(const std::string& v, long min, long max, int* out) {
-  char* end = nullptr;
-  errno = 0;
-  const long n = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0' || errno == ERANGE || n < min || n > max) return false;
-  *out = static_cast<int>(n);
-  return true;
-}
-}  // namespace
 
 bool intOption(const ToolArgs& args, const std::string& option, int fallback, int min, int max,
                int* out, std::string* error) {
@@ -150,7 +134,11 @@ bool intOption(const ToolArgs& args, const std::string& option, int fallback, in
     return true;
   }
   const std::string v = args.get(option);
-  if (parseInt(v, min, max, out)) return true;
+  long n = 0;
+  if (config::parseInteger(v, min, max, &n)) {
+    *out = static_cast<int>(n);
+    return true;
+  }
   *error = option + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
            "] (got '" + v + "')";
   return false;
@@ -163,7 +151,11 @@ bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, 
     return true;
   }
   const std::string v = args.get(option);
-  if (parseInt(v, 1, 1000000000, out)) return true;
+  long n = 0;
+  if (config::parseInteger(v, 1, 1000000000, &n)) {
+    *out = static_cast<int>(n);
+    return true;
+  }
   *error = option + " must be a positive integer (got '" + v + "')";
   return false;
 }

@@ -1,0 +1,25 @@
+// Reading list-valued text inputs the same strict way everywhere: the tools' number lists
+// ("--multiples 1.5,2.5,3"), coral_sequence_demo's scan indices ("~step_scans 10,20") and the
+// training samples' CSV lines. A malformed entry is refused by the caller with a message,
+// never skipped: "1,2," once read as [1, 2], a list the user did not write. ROS-free, no
+// exceptions.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace coral_introspection {
+namespace config {
+
+// The fields of `text` between `separator`s, empty ones included, so that a caller can refuse
+// them: "1,,2" -> {"1", "", "2"}, "1,2," -> {"1", "2", ""}, "" -> {""} (std::getline drops
+// the trailing empty field and yields nothing for "").
+std::vector<std::string> splitFields(const std::string& text, char separator);
+
+// `text` as a whole decimal integer in [min, max]: an optional '-' and digits, nothing else
+// (" 5", "+5", "5x", "2.5", "" are refused, as is a value out of range). *out is set only on
+// success.
+bool parseInteger(const std::string& text, long min, long max, long* out);
+
+}  // namespace config
+}  // namespace coral_introspection
