@@ -51,11 +51,11 @@ std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimen
 std::string errorSweepCsvHeader() {
   return "dataset,pair,error,axis,multiple,magnitude,ground_truth,valid,aligned,probability,"
          "classifier_p,relative_score,relative_misaligned,q,h_joint,h_sep,overlap,num_queries,"
-         "flat_axes,free_space,constraint,coarse_drop,coarse_step,registered_size";
+         "flat_axes,free_space,constraint,coarse_drop,coarse_step,registered_size,preset_aligned";
 }
 
 std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepError& e,
-                             const coral::AlignmentVerdict& v) {
+                             const coral::AlignmentVerdict& v, bool preset_aligned) {
   std::ostringstream s;
   s.precision(6);
   s << dataset << ',' << pair << ',' << e.label << ','
@@ -65,7 +65,8 @@ std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepEr
     << v.relative.misaligned << ',' << v.coral.quality << ',' << v.coral.h_joint << ','
     << v.coral.h_sep << ',' << v.coral.overlap << ',' << v.coral.num_queries << ','
     << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ',' << v.constraint.weakest
-    << ',' << v.coarse.drop() << ',' << v.coarse.lowest.name << ',' << v.coarse.registered_size;
+    << ',' << v.coarse.drop() << ',' << v.coarse.lowest.name << ',' << v.coarse.registered_size
+    << ',' << preset_aligned;
   return s.str();
 }
 

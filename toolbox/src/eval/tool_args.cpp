@@ -127,6 +127,16 @@ bool numberListOption(const ToolArgs& args, const std::string& option,
   return true;
 }
 
+namespace {
+// v as a whole integer in [min, max] (config::parseInteger: no blanks, no '+'); false otherwise.
+bool intIn(const std::string& v, int min, int max, int* out) {
+  long n = 0;
+  if (!config::parseInteger(v, min, max, &n)) return false;
+  *out = static_cast<int>(n);
+  return true;
+}
+}  // namespace
+
 bool intOption(const ToolArgs& args, const std::string& option, int fallback, int min, int max,
                int* out, std::string* error) {
   if (!args.has(option)) {
@@ -134,11 +144,7 @@ bool intOption(const ToolArgs& args, const std::string& option, int fallback, in
     return true;
   }
   const std::string v = args.get(option);
-  long n = 0;
-  if (config::parseInteger(v, min, max, &n)) {
-    *out = static_cast<int>(n);
-    return true;
-  }
+  if (intIn(v, min, max, out)) return true;
   *error = option + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
            "] (got '" + v + "')";
   return false;
@@ -151,11 +157,7 @@ bool positiveInt(const ToolArgs& args, const std::string& option, int fallback, 
     return true;
   }
   const std::string v = args.get(option);
-  long n = 0;
-  if (config::parseInteger(v, 1, 1000000000, &n)) {
-    *out = static_cast<int>(n);
-    return true;
-  }
+  if (intIn(v, 1, 1000000000, out)) return true;
   *error = option + " must be a positive integer (got '" + v + "')";
   return false;
 }

@@ -81,8 +81,9 @@ int main(int argc, char** argv) {
   coral::VerdictConfig verdict;
   if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
     return fail(err);  // names the file (and line)
-  // Every term of the verdict (classifier and relative check) in the CSV; the summary counts
-  // the preset's own method, combined from the same terms.
+  // Every term of the verdict (classifier and relative check) in the CSV, `aligned` as method
+  // both combines them; the summary and the CSV's last column (preset_aligned) count the
+  // preset's own method and gate, combined from the same terms.
   online::IntrospectorConfig judge_cfg = node.online;
   judge_cfg.verdict.method = coral::VerdictMethod::kBoth;
   judge_cfg.verdict.measure_gate_terms = true;  // free space and constraint in the CSV too
@@ -112,14 +113,15 @@ int main(int argc, char** argv) {
       for (const eval::SweepError& e : errors) {
         const online::PairJudgement j = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
                                                           p.T_a_b * e.delta, judge_cfg, false);
-        out << eval::errorSweepCsvRow(d.name, static_cast<int>(i), e, j.verdict) << "\n";
         coral::AlignmentVerdict v = j.verdict;
         if (v.coral.valid)
           coral::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v,
                                 verdict.gate, coral::gateTerms(v));
+        const bool accepted = v.valid && v.aligned;  // no verdict = not accepted
+        out << eval::errorSweepCsvRow(d.name, static_cast<int>(i), e, j.verdict, accepted) << "\n";
         auto& t = tally[e.label];
         t.second += 1;
-        t.first += (v.valid && v.aligned) == e.ground_truth;  // no verdict = not accepted
+        t.first += accepted == e.ground_truth;
       }
     }
     std::cerr << d.name << ": " << d.summary << "\n";

@@ -43,10 +43,12 @@ std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimen
                                     const std::vector<double>& multiples = sweepMultiples(),
                                     const std::vector<double>& yaw_degrees = sweepYawDegrees());
 
-// One CSV line per judged error: the verdict and the terms behind it.
+// One CSV line per judged error: the terms behind the verdict, `aligned` as method `both`
+// combines them (v: judged with kBoth, measure_gate_terms) and, last, `preset_aligned`: the
+// preset's own verdict (its method and gate, the one coral_error_sweep's summary counts).
 std::string errorSweepCsvHeader();
 std::string errorSweepCsvRow(const std::string& dataset, int pair, const SweepError& e,
-                             const coral::AlignmentVerdict& v);
+                             const coral::AlignmentVerdict& v, bool preset_aligned);
 
 }  // namespace eval
 }  // namespace coral_introspection

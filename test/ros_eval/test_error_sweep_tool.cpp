@@ -1,0 +1,61 @@
+// coral_error_sweep's CSV and its summary count the same verdict: the preset's own
+// (`preset_aligned`, the last column), not method both's `aligned` column next to the terms.
+// Recomputing rates from `aligned` once gave 217 accepted ACES errors where the preset accepts
+// 58 (doc/verdict_every_error.md); this pins the column that answers "what did the preset say".
+#include <gtest/gtest.h>
+
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "coral_introspection/config/text_fields.hpp"
+#include "support/run_tool.hpp"
+
+namespace {
+
+using coral_introspection::config::splitFields;
+
+TEST(ErrorSweepTool, PresetAlignedIsWhatTheSummaryCounts) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  const std::string csv = coral_test::tempPath("error_sweep", ".csv");
+  // Every 40th ACES relation (32 pairs x 34 poses, a few seconds).
+  const coral_test::ToolRun r = coral_test::runTool(
+      CORAL_ERROR_SWEEP_EXE, "--config " + coral_test::sourceDir() +
+                                 "/config/lidar_2d.yaml --data carmen:" + coral_data +
+                                 "/aces.clf.bz2 --stride 40 --out " + csv);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(coral_test::readWholeFile(csv));
+  std::remove(csv.c_str());
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  const std::vector<std::string> head = splitFields(line, ',');
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
+  ASSERT_EQ(head.back(), "preset_aligned");
+  ASSERT_TRUE(col.count("aligned") && col.count("ground_truth") && col.count("error"));
+  // Per error label: rows judged right by the preset's column, and rows in all.
+  std::map<std::string, std::pair<int, int>> right;
+  int rows = 0, differ = 0;
+  while (std::getline(lines, line)) {
+    const std::vector<std::string> f = splitFields(line, ',');
+    ASSERT_EQ(f.size(), head.size()) << line;
+    const bool gt = f[col["ground_truth"]] == "1", preset = f.back() == "1";
+    auto& t = right[f[col["error"]]];
+    t.first += preset == gt;
+    t.second += 1;
+    differ += preset != (f[col["aligned"]] == "1");
+    ++rows;
+  }
+  EXPECT_EQ(rows, 32 * 34);
+  // The summary on stderr ("  x-1: right N / M") gives the same count for every label.
+  for (const auto& [label, t] : right) {
+    const std::string expected =
+        "  " + label + ": right " + std::to_string(t.first) + " / " + std::to_string(t.second);
+    EXPECT_NE(r.err.find(expected + "\n"), std::string::npos) << expected << "\n" << r.err;
+  }
+  // And it is not method both's column: the gate and the coarse probe change some verdicts.
+  EXPECT_GT(differ, 0);
+}
+
+}  // namespace
