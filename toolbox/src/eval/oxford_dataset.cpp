@@ -8,6 +8,7 @@
 #include <sstream>
 #include <utility>
 
+#include "coral_introspection/config/text_fields.hpp"
 #include "coral_introspection/coral/types.hpp"
 
 namespace coral_introspection {
@@ -50,9 +51,7 @@ bool OxfordDataset::load(const std::string& dir, std::string* error) {
   std::map<Key, Eigen::Isometry3d> rel;
   std::getline(gt, line);  // header
   while (std::getline(gt, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) f.push_back(c);
+    const std::vector<std::string> f = config::splitFields(line, ',');
     if (f.size() < 10) continue;
     try {
       const double x = std::stod(f[2]), y = std::stod(f[3]), yaw = std::stod(f[7]);
