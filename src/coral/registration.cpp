@@ -113,12 +113,15 @@ SurfaceTarget::~SurfaceTarget() = default;
 
 std::size_t SurfaceTarget::size() const { return impl_->points.size(); }
 
-RegistrationResult SurfaceTarget::align(const Points& b, const Eigen::Isometry3d& T_init) const {
+RegistrationResult SurfaceTarget::align(
+    const Points& b, const Eigen::Isometry3d& T_init, std::size_t max_points, double min_step,
+    const std::function<bool(const Eigen::Isometry3d&)>& stop) const {
   const Impl& m = *impl_;
   RegistrationResult res;
   res.T_a_b = T_init;
   Points source;
-  const std::size_t stride = strideFor(b.size(), kMaxSourcePoints);
+  const std::size_t stride = strideFor(b.size(), std::max<std::size_t>(max_points, 1));
+  const double step_done = min_step > 0.0 ? min_step : m.cfg.min_step;
   for (std::size_t i = 0; i < b.size(); i += stride)
     if (b[i].allFinite()) source.push_back(b[i]);
   if (m.points.empty()) return res;
@@ -168,8 +171,12 @@ RegistrationResult SurfaceTarget::align(const Points& b, const Eigen::Isometry3d
     if (w.norm() > 0.0) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
     step.translation() = delta.head<3>();
     res.T_a_b = step * res.T_a_b;
-    if (delta.head<3>().norm() < m.cfg.min_step && w.norm() < m.cfg.min_step) {
+    if (delta.head<3>().norm() < step_done && w.norm() < step_done) {
       res.converged = true;
+      return res;
+    }
+    if (stop && stop(res.T_a_b)) {
+      res.stopped = true;
       return res;
     }
   }

@@ -18,6 +18,10 @@ std::string RestartConfig::validate() const {
       .require(max_q_ratio > 0.0 && max_q_ratio <= 1.0, "max_q_ratio", "in (0, 1]", max_q_ratio)
       .require(min_overlap_ratio >= 0.0 && min_overlap_ratio <= 1.0, "min_overlap_ratio",
                "in [0, 1]", min_overlap_ratio)
+      .require(std::isfinite(coarse_min_step) && coarse_min_step > 0.0, "coarse_min_step", "> 0",
+               coarse_min_step)
+      .require(coarse_back_within > 0.0 && coarse_back_within <= min_distance, "coarse_back_within",
+               "in (0, min_distance] tolerances", coarse_back_within)
       .nested("registration", registration.validate())
       .str();
 }
@@ -39,8 +43,25 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
       start.translation() =
           radius * tolerance.translation * Vec3(std::cos(angle), std::sin(angle), 0.0);
-      const RegistrationResult r = target.align(pair.points(1), T_a_b * start);
       ++out.starts;
+      const Points& b = pair.points(1);
+      Eigen::Isometry3d from = T_a_b * start;
+      if (cfg.coarse_points > 0 && b.size() > cfg.coarse_points) {
+        // Heading back: only for a start farther out than that (a nearer one starts there).
+        const bool may_stop = radius > cfg.coarse_back_within;
+        const RegistrationResult c = target.align(
+            b, from, cfg.coarse_points, cfg.coarse_min_step, [&](const Eigen::Isometry3d& T) {
+              return may_stop &&
+                     toleranceSize(T_a_b.inverse() * T, tolerance) < cfg.coarse_back_within;
+            });
+        if (!c.usable(cfg.registration)) continue;
+        if (c.stopped || toleranceSize(T_a_b.inverse() * c.T_a_b, tolerance) < cfg.min_distance) {
+          ++out.usable;  // back at the candidate's pose
+          continue;
+        }
+        from = c.T_a_b;
+      }
+      const RegistrationResult r = target.align(b, from);
       if (!r.usable(cfg.registration)) continue;
       ++out.usable;
       const double distance = toleranceSize(T_a_b.inverse() * r.T_a_b, tolerance);

@@ -6,7 +6,8 @@
 // candidate and offers the true pose; bad settings are refused. The loop gate's
 // max_registered_offset (registeredNearby): a candidate a fraction of the tolerance off,
 // rejected at its pose, is registered back to the true pose and accepted with it offered; one
-// a full tolerance off is not.
+// a full tolerance off is not. In 3D the check's coarse-to-fine registrations find what one
+// registration with all points finds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -86,6 +87,29 @@ TEST(Registration, PointToPlaneComesBackToTheTruePoseIn3d) {
   }
 }
 
+// align's stop: sees the pose after each update and ends the registration there.
+TEST(Registration, StopEndsTheRegistrationAtThePoseItAccepts) {
+  YardCheck s;
+  const coral::SurfaceTarget target(s.pair->points(0), s.coral, coral::RegistrationConfig());
+  const Eigen::Isometry3d from = s.p.T_a_b * se2(0.5, 0.0, 0.0);
+  const coral::RegistrationResult full = target.align(s.pair->points(1), from);
+  ASSERT_TRUE(full.converged);
+  auto distance = [&](const Eigen::Isometry3d& T) {
+    return (T.translation() - s.p.T_a_b.translation()).norm();
+  };
+  int calls = 0;
+  const coral::RegistrationResult r =
+      target.align(s.pair->points(1), from, coral::SurfaceTarget::kMaxSourcePoints, 0.0,
+                   [&](const Eigen::Isometry3d& T) { return ++calls, distance(T) < 0.25; });
+  EXPECT_TRUE(r.stopped);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(calls, r.iterations);
+  EXPECT_LT(r.iterations, full.iterations);
+  EXPECT_LT(distance(r.T_a_b), 0.25);  // where it stopped: on the way, not yet at the end
+  EXPECT_GT(distance(r.T_a_b), distance(full.T_a_b));
+  EXPECT_FALSE(full.stopped);
+}
+
 TEST(Registration, NoCorrespondencesIsNotConverged) {
   YardCheck s;
   const coral::SurfaceTarget target(s.pair->points(0), s.coral, coral::RegistrationConfig());
@@ -121,6 +145,45 @@ TEST(RestartCheck, TheTruePoseStands) {
   near.radii = {1.0, 2.5};
   near.max_q_ratio = 1.0;
   EXPECT_FALSE(s.check(s.p.T_a_b, near).better_elsewhere);
+}
+
+// 3D (the 16-ring yard, 6 DoF): b has more points than RestartConfig::coarse_points, so each
+// start is registered with those first (until it heads back within coarse_back_within) and
+// again with all points only when it ends away from the candidate. A candidate a metre off is
+// rejected with the true pose, as by one registration with all points per start (coarse_points 0),
+// and the true pose stands.
+TEST(RestartCheck, CoarseToFineIn3dFindsWhatOneFullRegistrationFinds) {
+  const test::YardPair p = test::yardPair(16);
+  const coral::CoralConfig coral;  // 3D, r = 0.3 m
+  // The stand-in for the loop verdict: Q and the overlap only (any p accepted), one CorAl
+  // evaluation per pose; what the check compares.
+  coral::VerdictConfig judge;
+  judge.method = coral::VerdictMethod::kClassifier;
+  judge.classifier.threshold = 0.0;
+  judge.tolerance = coral::ToleranceConfig::lidar3d();
+  const auto pair = coral::prepareVerdictPair(p.a, p.b, coral, judge);
+  const auto check = [&](const Eigen::Isometry3d& T, const coral::RestartConfig& cfg) {
+    return coral::betterAlignmentElsewhere(
+        *pair, T, coral::judgedPose(coral::judgeAlignment(*pair, T, judge)), judge.tolerance, cfg,
+        [&](const Eigen::Isometry3d& pose) {
+          return coral::judgedPose(coral::judgeAlignment(*pair, pose, judge));
+        });
+  };
+  coral::RestartConfig coarse;
+  coarse.registration.normal_radius = 1.0;  // [m] patches spanning two of the 16 rings
+  ASSERT_GT(pair->points(1).size(), coarse.coarse_points);  // the coarse phase runs
+  coral::RestartConfig full = coarse;
+  full.coarse_points = 0;
+  for (const coral::RestartConfig& cfg : {coarse, full}) {
+    const coral::RestartResult r = check(p.T_a_b * se2(0.0, -1.0, 0.05), cfg);
+    EXPECT_EQ(r.starts, 16);
+    ASSERT_TRUE(r.better_elsewhere);
+    expectNear(r.T_a_b, p.T_a_b, 0.05, 0.5);
+    EXPECT_NEAR(r.distance, 1.0 / 0.3, 0.3);  // [tolerances] about 1 m from the candidate
+  }
+  const coral::RestartResult stands = check(p.T_a_b, coarse);
+  EXPECT_FALSE(stands.better_elsewhere);
+  EXPECT_GE(stands.usable, 8);
 }
 
 // Through the loop verdict (judgeAlignment, method gated with the loop gate's restarts).
@@ -261,6 +324,12 @@ TEST(RestartCheck, RefusesBadSettings) {
   c = coral::RestartConfig();
   c.directions = 0;
   refused(c, "directions");
+  c = coral::RestartConfig();
+  c.coarse_min_step = 0.0;
+  refused(c, "coarse_min_step");
+  c = coral::RestartConfig();
+  c.coarse_back_within = c.min_distance + 0.1;  // would end starts the check counts as away
+  refused(c, "coarse_back_within");
   c = coral::RestartConfig();
   c.max_q_ratio = 1.5;
   refused(c, "max_q_ratio");

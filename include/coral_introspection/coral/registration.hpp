@@ -9,6 +9,7 @@
 // (PL-ICP) and PCL's point-to-plane ICP use it. ROS-free, no exceptions.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -45,6 +46,7 @@ struct RegistrationConfig {
 struct RegistrationResult {
   Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  // b's points into a's frame
   bool converged = false;  // the last update moved less than min_step
+  bool stopped = false;    // align's `stop` ended it
   int iterations = 0;
   int correspondences = 0;  // at the last iteration
   // A pose to judge: max_iterations ran out or the update became small, with at least
@@ -72,9 +74,13 @@ class SurfaceTarget {
 
   std::size_t size() const;  // target points with a normal
   // Registers b (its own frame) onto the target from T_init. dimension 2: x, y, yaw (z, roll
-  // and pitch of T_init kept); 3: 6 DoF. At most kMaxSourcePoints points of b are used (a
-  // deterministic stride). Never throws.
-  RegistrationResult align(const Points& b, const Eigen::Isometry3d& T_init) const;
+  // and pitch of T_init kept); 3: 6 DoF. At most max_points points of b are used (a
+  // deterministic stride); converged once an update moves less than min_step (0: the
+  // config's). `stop`, when given, sees the pose after each update and ends the registration
+  // there when it returns true (RegistrationResult::stopped). Never throws.
+  RegistrationResult align(const Points& b, const Eigen::Isometry3d& T_init,
+                           std::size_t max_points = kMaxSourcePoints, double min_step = 0.0,
+                           const std::function<bool(const Eigen::Isometry3d&)>& stop = {}) const;
   static constexpr std::size_t kMaxSourcePoints = 2000;
   static constexpr std::size_t kMaxTargetPoints = 6000;  // points of a given a normal
 

@@ -34,6 +34,18 @@ struct RestartConfig {
   double min_distance = 2.0;
   double max_q_ratio = 0.8;
   double min_overlap_ratio = 0.9;
+  // Coarse to fine, for dense 3D scans: each start is registered first with at most
+  // coarse_points of b's points until an update moves less than coarse_min_step [m and rad]
+  // or the pose comes within coarse_back_within tolerances of the candidate's (heading back
+  // there; for starts farther out than that). One that ends within min_distance of the
+  // candidate's pose ends the start; any other is registered again with all points
+  // (SurfaceTarget::kMaxSourcePoints) from where it ended. The nearest-point search is most
+  // of a registration's cost, and the starts of a right candidate come back to it (all 16 on
+  // the 64-beam timing pair, doc/loop_closure.md). Only when b has more points than
+  // coarse_points (2D scans of up to 361 beams are registered once, as before); 0 = off.
+  std::size_t coarse_points = 500;
+  double coarse_min_step = 1e-3;
+  double coarse_back_within = 1.0;  // [tolerances] in (0, min_distance]
   RegistrationConfig registration;
   std::string validate() const;  // empty when valid
 };
