@@ -522,6 +522,26 @@ TEST(LoopClosure, Lidar3dRevisitsLeftShortAreAcceptedRegisteredBack) {
   EXPECT_LE(one_preset * 100, 1 * one);
 }
 
+// The Livox loop's scans and poses (no candidates) with lidar_3d's candidate settings, and
+// the preset's loop verdict as it is (preset) and with one gate term changed (without).
+struct Lidar3dScans {
+  ros_adapters::NodeConfig node;
+  eval::LoopCandidateConfig lc;
+  LivoxLoop l;
+  online::IntrospectorConfig preset, without;
+};
+bool loadLidar3dScans(const std::string& dir, const std::function<void(coral::GateConfig*)>& change,
+                      Lidar3dScans* s, std::string* err) {
+  s->lc = presetCandidates("lidar_3d", 3, &s->node);
+  s->lc.max_radius_candidates = 0;
+  s->lc.max_lookalike_pairs = 0;
+  s->preset = s->without = s->node.online;
+  s->preset.verdict = coral::loopClosureVerdict(s->node.online.verdict);
+  s->without.verdict = s->preset.verdict;
+  change(&s->without.verdict.gate);
+  return loadLivoxLoop(dir, s->lc, &s->l, err);
+}
+
 // Scan b of the Livox loop registered onto scan a as coral_loop_eval registers look-alike
 // places (eval::registerPair from zero translation at the heading).
 eval::LoopCandidate registeredAt(const LivoxLoop& l, const eval::LoopCandidateConfig& lc, int a,
@@ -543,18 +563,15 @@ eval::LoopCandidate registeredAt(const LivoxLoop& l, const eval::LoopCandidateCo
 // the preset with the flat axes named, and accepted with the term off (what it adds).
 TEST(LoopClosure, Lidar3dTurnedLookAlikesAreRejectedByTheirFlatAxes) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
-  ros_adapters::NodeConfig node;
-  eval::LoopCandidateConfig lc = presetCandidates("lidar_3d", 3, &node);
-  ASSERT_EQ(node.online.verdict.loop_closure.max_flat_axes, 1);
-  lc.max_radius_candidates = 0;  // the scans and poses only
-  lc.max_lookalike_pairs = 0;
-  LivoxLoop l;
+  Lidar3dScans s;
   std::string err;
-  ASSERT_TRUE(loadLivoxLoop(coral_data, lc, &l, &err)) << err;
-  online::IntrospectorConfig preset = node.online, no_term = node.online;
-  preset.verdict = coral::loopClosureVerdict(node.online.verdict);
-  no_term.verdict = preset.verdict;
-  no_term.verdict.gate.max_flat_axes = -1;
+  ASSERT_TRUE(loadLidar3dScans(
+      coral_data, [](coral::GateConfig* g) { g->max_flat_axes = -1; }, &s, &err))
+      << err;
+  ASSERT_EQ(s.node.online.verdict.loop_closure.max_flat_axes, 1);
+  const eval::LoopCandidateConfig& lc = s.lc;
+  const LivoxLoop& l = s.l;
+  const online::IntrospectorConfig &preset = s.preset, &no_term = s.without;
   const struct {
     int a, b;
     double heading_deg;
@@ -589,19 +606,16 @@ TEST(LoopClosure, Lidar3dTurnedLookAlikesAreRejectedByTheirFlatAxes) {
 // the revisit's (within the tolerance of the reference), and accepted with the check off.
 TEST(LoopClosure, Lidar3dCandidatesOffTheRevisitAreRejectedByTheRestartCheck) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
-  ros_adapters::NodeConfig node;
-  eval::LoopCandidateConfig lc = presetCandidates("lidar_3d", 3, &node);
-  ASSERT_TRUE(node.online.verdict.loop_closure.restarts);
-  lc.max_radius_candidates = 0;  // the scans and poses only
-  lc.max_lookalike_pairs = 0;
-  LivoxLoop l;
+  Lidar3dScans s;
   std::string err;
-  ASSERT_TRUE(loadLivoxLoop(coral_data, lc, &l, &err)) << err;
-  online::IntrospectorConfig preset = node.online, no_check = node.online;
-  preset.verdict = coral::loopClosureVerdict(node.online.verdict);
-  no_check.verdict = preset.verdict;
-  no_check.verdict.gate.restarts = false;
-  const coral::ToleranceConfig& tol = node.online.verdict.tolerance;
+  ASSERT_TRUE(loadLidar3dScans(
+      coral_data, [](coral::GateConfig* g) { g->restarts = false; }, &s, &err))
+      << err;
+  ASSERT_TRUE(s.node.online.verdict.loop_closure.restarts);
+  const eval::LoopCandidateConfig& lc = s.lc;
+  const LivoxLoop& l = s.l;
+  const online::IntrospectorConfig &preset = s.preset, &no_check = s.without;
+  const coral::ToleranceConfig& tol = s.node.online.verdict.tolerance;
   const struct {
     int a, b;
     double heading_deg, min_error_m;
