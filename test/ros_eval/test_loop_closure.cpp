@@ -173,6 +173,15 @@ void checkCarmenLoops(const std::string& log, const std::string& registration,
   eval::CarmenLoopSet set;
   std::string err;
   ASSERT_TRUE(loadCarmenLoops(log, cfg, &set, &err)) << err;
+  // Each candidate carries the reference it is labelled against (coral_loop_eval measures the
+  // poses the verdict offers against it): its errors are the distance to it.
+  for (const std::vector<eval::LoopCandidate>* cands : {&set.lookalikes, &set.revisits})
+    for (const eval::LoopCandidate& c : *cands) {
+      double t_err = 0.0, r_err = 0.0;
+      eval::relativeError(c.T_a_b, c.T_ref, &t_err, &r_err);
+      ASSERT_NEAR(t_err, c.error_translation, 1e-9) << c.source << " " << c.a << "-" << c.b;
+      ASSERT_NEAR(r_err, c.error_rotation_deg, 1e-9) << c.source << " " << c.a << "-" << c.b;
+    }
   LoopTally t;
   std::vector<bool> lookalike_accepted, revisit_accepted(set.revisits.size(), false);
   for (const eval::LoopCandidate& c : set.lookalikes)

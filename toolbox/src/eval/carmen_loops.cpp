@@ -35,7 +35,7 @@ bool loadCarmenLoopSet(const std::string& log_path, const std::string& corrected
     c.a = p.a;
     c.b = p.b;
     c.source = "relation";
-    c.T_a_b = p.T_a_b;
+    c.T_a_b = c.T_ref = p.T_a_b;
     c.is_true = c.converged = true;
     out->revisits.push_back(c);
   }

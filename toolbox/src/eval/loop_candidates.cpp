@@ -206,6 +206,7 @@ namespace {
 // unless keep_ambiguous).
 bool labelCandidate(const Eigen::Isometry3d& T_ref, const LoopCandidateConfig& cfg,
                     LoopCandidate* c) {
+  c->T_ref = T_ref;
   relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
   const coral::ToleranceConfig& t = cfg.tolerance;
   c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;

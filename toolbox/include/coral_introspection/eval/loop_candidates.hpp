@@ -65,6 +65,9 @@ struct LoopCandidate {
   double error_translation = 0.0;  // [m] against the reference relative pose
   double error_rotation_deg = 0.0;
   bool is_true = false;  // within the tolerance of the reference
+  // The reference relative pose (b in a's frame) it is labelled against: what a pose the
+  // verdict offers for it in place of T_a_b (a refined pose) is measured against.
+  Eigen::Isometry3d T_ref = Eigen::Isometry3d::Identity();
 };
 
 // The candidate settings of the evaluation (doc/loop_closure.md, coral_loop_eval,
