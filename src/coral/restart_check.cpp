@@ -37,6 +37,10 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
   const SurfaceTarget target(pair.points(0), pair.config(), cfg.registration);
   // "Clearly lower": by a share of |Q| (Q may be slightly negative on clean walls).
   double best_q = q_candidate - (1.0 - cfg.max_q_ratio) * std::abs(q_candidate);
+  const Eigen::Isometry3d T_b_a = T_a_b.inverse();
+  auto tolerancesAway = [&](const Eigen::Isometry3d& T) {  // from the candidate's pose
+    return toleranceSize(T_b_a * T, tolerance);
+  };
   for (double radius : cfg.radii)
     for (int k = 0; k < cfg.directions; ++k) {
       const double angle = 2.0 * M_PI * k / cfg.directions;
@@ -51,11 +55,11 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
         const bool may_stop = radius > cfg.coarse_back_within;
         const RegistrationResult c = target.align(
             b, from, cfg.coarse_points, cfg.coarse_min_step, [&](const Eigen::Isometry3d& T) {
-              return may_stop &&
-                     toleranceSize(T_a_b.inverse() * T, tolerance) < cfg.coarse_back_within;
+              return may_stop && tolerancesAway(T) < cfg.coarse_back_within;
             });
         if (!c.usable(cfg.registration)) continue;
-        if (c.stopped || toleranceSize(T_a_b.inverse() * c.T_a_b, tolerance) < cfg.min_distance) {
+        // Stopped ones too: coarse_back_within <= min_distance (validate()).
+        if (tolerancesAway(c.T_a_b) < cfg.min_distance) {
           ++out.usable;  // back at the candidate's pose
           continue;
         }
@@ -64,7 +68,7 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       const RegistrationResult r = target.align(b, from);
       if (!r.usable(cfg.registration)) continue;
       ++out.usable;
-      const double distance = toleranceSize(T_a_b.inverse() * r.T_a_b, tolerance);
+      const double distance = tolerancesAway(r.T_a_b);
       if (distance < cfg.min_distance) continue;  // back at the candidate's pose
       const JudgedPose w = judge(r.T_a_b);
       if (!w.accepted || !(w.quality < best_q) ||

@@ -22,6 +22,18 @@ namespace {
 
 using coral::se2;
 
+// The restart check on `pair` at candidate pose T, with `judge` standing in for the loop
+// verdict at T and at every pose the check judges.
+coral::RestartResult restartCheck(const coral::CoralPair& pair, const coral::VerdictConfig& judge,
+                                  const Eigen::Isometry3d& T, const coral::RestartConfig& cfg) {
+  const coral::AlignmentVerdict v = coral::judgeAlignment(pair, T, judge);
+  EXPECT_TRUE(v.valid);
+  return coral::betterAlignmentElsewhere(
+      pair, T, coral::judgedPose(v), judge.tolerance, cfg, [&](const Eigen::Isometry3d& pose) {
+        return coral::judgedPose(coral::judgeAlignment(pair, pose, judge));
+      });
+}
+
 struct YardCheck {
   test::YardPair p = test::yardPair(1);
   coral::CoralConfig coral = test::planarYardCoral();
@@ -34,12 +46,7 @@ struct YardCheck {
   }
   // The check at candidate pose T; the stand-in for the loop verdict: the relative check.
   coral::RestartResult check(const Eigen::Isometry3d& T, const coral::RestartConfig& cfg = {}) {
-    const coral::AlignmentVerdict v = coral::judgeAlignment(*pair, T, judge);
-    EXPECT_TRUE(v.valid);
-    return coral::betterAlignmentElsewhere(
-        *pair, T, coral::judgedPose(v), judge.tolerance, cfg, [&](const Eigen::Isometry3d& pose) {
-          return coral::judgedPose(coral::judgeAlignment(*pair, pose, judge));
-        });
+    return restartCheck(*pair, judge, T, cfg);
   }
 };
 
@@ -163,11 +170,7 @@ TEST(RestartCheck, CoarseToFineIn3dFindsWhatOneFullRegistrationFinds) {
   judge.tolerance = coral::ToleranceConfig::lidar3d();
   const auto pair = coral::prepareVerdictPair(p.a, p.b, coral, judge);
   const auto check = [&](const Eigen::Isometry3d& T, const coral::RestartConfig& cfg) {
-    return coral::betterAlignmentElsewhere(
-        *pair, T, coral::judgedPose(coral::judgeAlignment(*pair, T, judge)), judge.tolerance, cfg,
-        [&](const Eigen::Isometry3d& pose) {
-          return coral::judgedPose(coral::judgeAlignment(*pair, pose, judge));
-        });
+    return restartCheck(*pair, judge, T, cfg);
   };
   coral::RestartConfig coarse;
   coarse.registration.normal_radius = 1.0;  // [m] patches spanning two of the 16 rings

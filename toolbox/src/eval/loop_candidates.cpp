@@ -146,6 +146,10 @@ LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceCo
   return c;
 }
 
+bool withinTolerance(double t, double r_deg, const coral::ToleranceConfig& tol) {
+  return t < tol.translation && r_deg < tol.rotation_deg;
+}
+
 void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
                    double* r_deg) {
   const Eigen::Isometry3d d = T_ref.inverse() * T_a_b;
@@ -209,7 +213,7 @@ bool labelCandidate(const Eigen::Isometry3d& T_ref, const LoopCandidateConfig& c
   c->T_ref = T_ref;
   relativeError(c->T_a_b, T_ref, &c->error_translation, &c->error_rotation_deg);
   const coral::ToleranceConfig& t = cfg.tolerance;
-  c->is_true = c->error_translation < t.translation && c->error_rotation_deg < t.rotation_deg;
+  c->is_true = withinTolerance(c->error_translation, c->error_rotation_deg, t);
   const bool is_false = c->error_translation >= cfg.false_multiple * t.translation ||
                         c->error_rotation_deg >= cfg.false_multiple * t.rotation_deg;
   return c->is_true || is_false || cfg.keep_ambiguous;

@@ -363,8 +363,7 @@ int main(int argc, char** argv) {
       if (refined) {
         double t = 0.0, r = 0.0;
         eval::relativeError(j->c.T_a_b * j->v_refined.refinement.delta, j->c.T_ref, &t, &r);
-        ++offered[j->c.is_true]
-                 [t < verdict.tolerance.translation && r < verdict.tolerance.rotation_deg];
+        ++offered[j->c.is_true][eval::withinTolerance(t, r, cand_cfg.tolerance)];
       }
       if (!j->in_graph) continue;  // the rows' candidates between scans of the graph
       edges.push_back({j->node_a, j->node_b, refined ? j->T_edge_refined : j->T_edge,  // refined:

@@ -106,6 +106,10 @@ bool relationRegistrations(const std::vector<TrainingScan>& scans,
                            const std::vector<ScanPair>& pairs, const LoopCandidateConfig& cfg,
                            std::vector<LoopCandidate>* out, std::string* error);
 
+// An error of t [m] and r_deg [deg] against the reference is within the tolerance: the label
+// of a true loop candidate (and of a pose offered in place of its own).
+bool withinTolerance(double t, double r_deg, const coral::ToleranceConfig& tol);
+
 // Error of T_a_b against the reference T_ref: translation [m], rotation [deg].
 void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_ref, double* t,
                    double* r_deg);
