@@ -60,8 +60,11 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
   // A registration from the pose converges into the minimum of Q a few centimetres wide that
   // fixed steps miss unless they land on it (errors between the steps' sizes): the loop
   // gate's registration from the pose, without a bound and without judging there.
+  // (Unbounded, so never screened: only the registration config of the RestartConfig is used.)
+  RestartConfig restart;
+  restart.registration = *registration;
   const NearbyAlignment reg =
-      registeredNearby(pair, T_a_b, tol, *registration, std::numeric_limits<double>::infinity(),
+      registeredNearby(pair, T_a_b, tol, restart, std::numeric_limits<double>::infinity(),
                        [](const Eigen::Isometry3d&) { return true; });
   r.registered = reg.usable;
   r.registered_size = reg.size;

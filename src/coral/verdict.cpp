@@ -255,11 +255,12 @@ void setRefinement(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T, d
 // Gate `restarts` on verdict v, accepted at T_a_b: registered again from other starts
 // (restart_check.hpp); a better alignment elsewhere rejects v and is offered when the
 // classifier says aligned there too (refinedPoseAccepted), as a refined pose is.
+// `target`: b's registration target when the caller has built one (restart_check.hpp).
 void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
-                   AlignmentVerdict* v) {
+                   AlignmentVerdict* v, const SurfaceTarget* target = nullptr) {
   v->restart = betterAlignmentElsewhere(
       pair, T_a_b, judgedPose(*v), cfg.tolerance, cfg.restart,
-      [&](const Eigen::Isometry3d& T) { return judgedPose(judgeAtPose(pair, T, cfg)); });
+      [&](const Eigen::Isometry3d& T) { return judgedPose(judgeAtPose(pair, T, cfg)); }, target);
   const RestartResult& r = v->restart;
   if (!r.better_elsewhere) return;
   // Judged again at the pose the check chose (rarely: only when it rejects) rather than
@@ -287,13 +288,17 @@ void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const 
 bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
                   AlignmentVerdict* v) {
   AlignmentVerdict w;
-  v->nearby = registeredNearby(pair, T_a_b, cfg.tolerance, cfg.restart.registration,
-                               cfg.gate.max_registered_offset, [&](const Eigen::Isometry3d& T) {
-                                 w = judgeAtPose(pair, T, cfg);
-                                 if (cfg.gate.restarts && w.valid && w.aligned)
-                                   checkRestarts(pair, T, cfg, &w);
-                                 return registeredPoseAccepted(w, cfg.gate);
-                               });
+  // One target for the registration from the pose and the restart check's (a 64-beam scan's:
+  // ~13 ms to build).
+  const SurfaceTarget target(pair.points(0), pair.config(), cfg.restart.registration);
+  v->nearby = registeredNearby(
+      pair, T_a_b, cfg.tolerance, cfg.restart, cfg.gate.max_registered_offset,
+      [&](const Eigen::Isometry3d& T) {
+        w = judgeAtPose(pair, T, cfg);
+        if (cfg.gate.restarts && w.valid && w.aligned) checkRestarts(pair, T, cfg, &w, &target);
+        return registeredPoseAccepted(w, cfg.gate);
+      },
+      &target);
   const NearbyAlignment& n = v->nearby;
   if (!n.accepted) return false;
   v->aligned = v->refined = true;

@@ -7,7 +7,8 @@
 // max_registered_offset (registeredNearby): a candidate a fraction of the tolerance off,
 // rejected at its pose, is registered back to the true pose and accepted with it offered; one
 // a full tolerance off is not. In 3D the check's coarse-to-fine registrations find what one
-// registration with all points finds.
+// registration with all points finds, and the coarse screen of the registration from the pose
+// ends a candidate that runs away without changing one that comes back.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -156,9 +157,9 @@ TEST(RestartCheck, TheTruePoseStands) {
 
 // 3D (the 16-ring yard, 6 DoF): b has more points than RestartConfig::coarse_points, so each
 // start is registered with those first (until it heads back within coarse_back_within) and
-// again with all points only when it ends away from the candidate. A candidate a metre off is
-// rejected with the true pose, as by one registration with all points per start (coarse_points 0),
-// and the true pose stands.
+// again with all points only when it ends away from the candidate (and not where an earlier
+// start's coarse registration ended). A candidate a metre off is rejected with the true pose,
+// as by one registration with all points per start (coarse_points 0), and the true pose stands.
 TEST(RestartCheck, CoarseToFineIn3dFindsWhatOneFullRegistrationFinds) {
   const test::YardPair p = test::yardPair(16);
   const coral::CoralConfig coral;  // 3D, r = 0.3 m
@@ -177,12 +178,19 @@ TEST(RestartCheck, CoarseToFineIn3dFindsWhatOneFullRegistrationFinds) {
   ASSERT_GT(pair->points(1).size(), coarse.coarse_points);  // the coarse phase runs
   coral::RestartConfig full = coarse;
   full.coarse_points = 0;
-  for (const coral::RestartConfig& cfg : {coarse, full}) {
-    const coral::RestartResult r = check(p.T_a_b * se2(0.0, -1.0, 0.05), cfg);
+  coral::RestartConfig each = coarse;  // coarse to fine, no start counted with another
+  each.coarse_same_within = 0.0;
+  for (const coral::RestartConfig* cfg : {&coarse, &full, &each}) {
+    const coral::RestartResult r = check(p.T_a_b * se2(0.0, -1.0, 0.05), *cfg);
     EXPECT_EQ(r.starts, 16);
     ASSERT_TRUE(r.better_elsewhere);
     expectNear(r.T_a_b, p.T_a_b, 0.05, 0.5);
     EXPECT_NEAR(r.distance, 1.0 / 0.3, 0.3);  // [tolerances] about 1 m from the candidate
+    // The starts that end away end at the true pose: all but the first are counted with it.
+    if (cfg == &coarse)
+      EXPECT_GE(r.merged, 3);
+    else
+      EXPECT_EQ(r.merged, 0);
   }
   const coral::RestartResult stands = check(p.T_a_b, coarse);
   EXPECT_FALSE(stands.better_elsewhere);
@@ -223,7 +231,7 @@ TEST(RestartCheck, TheLoopVerdictRejectsTheMetreOffCandidateAndOffersTheTruePose
 
 TEST(NearbyAlignment, RegistersFromThePoseAndMeasuresHowFarItMoved) {
   YardCheck s;
-  const coral::RegistrationConfig reg;
+  const coral::RestartConfig reg;  // its registration (and coarse screen: never reached here)
   int asked = 0;
   auto yes = [&](const Eigen::Isometry3d&) { return ++asked > 0; };
   // 0.12 m off (0.4 tolerances): registered back to the true pose, which is judged once.
@@ -252,6 +260,56 @@ TEST(NearbyAlignment, RegistersFromThePoseAndMeasuresHowFarItMoved) {
   // Nothing to register onto: no pose, not accepted.
   n = coral::registeredNearby(*s.pair, se2(500.0, 0.0, 0.0), s.judge.tolerance, reg, 0.5, yes);
   EXPECT_FALSE(n.usable || n.accepted);
+}
+
+// 3D (the 16-ring yard): b has more points than coarse_points, so the registration from the
+// pose is screened by the restart check's coarse phase. A candidate 0.12 m off passes the screen
+// and is registered from its pose exactly as without the screen (coarse_points 0); one a metre
+// off (3.3 tolerances) runs away from its pose, and the screen ends it a tolerance away,
+// without judging: the full registration would also have ended past the bound (at the true
+// pose).
+TEST(NearbyAlignment, TheCoarseScreenEndsACandidateThatRunsAwayIn3d) {
+  const test::YardPair p = test::yardPair(16);
+  const coral::CoralConfig coral;  // 3D, r = 0.3 m
+  coral::VerdictConfig judge;
+  judge.tolerance = coral::ToleranceConfig::lidar3d();
+  const auto pair = coral::prepareVerdictPair(p.a, p.b, coral, judge);
+  coral::RestartConfig screened;
+  screened.registration.normal_radius = 1.0;  // [m] patches spanning two of the 16 rings
+  ASSERT_GT(pair->points(1).size(), screened.coarse_points);  // the screen runs
+  coral::RestartConfig full = screened;
+  full.coarse_points = 0;
+  int asked = 0;
+  auto yes = [&](const Eigen::Isometry3d&) { return ++asked > 0; };
+  auto nearby = [&](const Eigen::Isometry3d& T, const coral::RestartConfig& cfg) {
+    return coral::registeredNearby(*pair, T, judge.tolerance, cfg, 0.5, yes);
+  };
+  const Eigen::Isometry3d near = p.T_a_b * se2(0.12, 0.0, 0.0);
+  const coral::NearbyAlignment a = nearby(near, screened), b = nearby(near, full);
+  EXPECT_TRUE(a.accepted && b.accepted);
+  EXPECT_FALSE(a.screened || b.screened);
+  EXPECT_TRUE(a.T_a_b.isApprox(b.T_a_b, 1e-12));  // the same registration from the pose
+  expectNear(a.T_a_b, p.T_a_b, 0.03, 0.3);
+  EXPECT_EQ(asked, 2);
+  asked = 0;
+  const Eigen::Isometry3d off = p.T_a_b * se2(0.0, -1.0, 0.05);
+  const coral::NearbyAlignment s = nearby(off, screened), f = nearby(off, full);
+  EXPECT_TRUE(s.usable && s.screened);
+  EXPECT_FALSE(s.accepted);
+  EXPECT_GE(s.size, 1.0);  // stopped once a tolerance from the candidate
+  EXPECT_LT(s.size, 2.0);  // and not much later
+  EXPECT_FALSE(f.screened || f.accepted);
+  EXPECT_TRUE(f.usable);
+  EXPECT_NEAR(f.size, 1.0 / 0.3, 0.3);  // [tolerances] the full one: back at the true pose
+  // A coarse phase that settles near the pose (here: after its first update, by a 1 m step
+  // bound) leaves the screen to the full registration, which is stopped the same way.
+  coral::RestartConfig settles = screened;
+  settles.coarse_min_step = 1.0;
+  const coral::NearbyAlignment l = nearby(off, settles);
+  EXPECT_TRUE(l.usable && l.screened);
+  EXPECT_GE(l.size, 1.0);
+  EXPECT_LT(l.size, 2.0);
+  EXPECT_EQ(asked, 0);
 }
 
 // Through the loop verdict: a candidate rejected at its pose (here by the gate's Q bound, set
@@ -333,6 +391,11 @@ TEST(RestartCheck, RefusesBadSettings) {
   c = coral::RestartConfig();
   c.coarse_back_within = c.min_distance + 0.1;  // would end starts the check counts as away
   refused(c, "coarse_back_within");
+  c = coral::RestartConfig();
+  c.coarse_same_within = c.coarse_back_within + 0.1;
+  refused(c, "coarse_same_within");
+  c.coarse_same_within = -0.1;
+  refused(c, "coarse_same_within");
   c = coral::RestartConfig();
   c.max_q_ratio = 1.5;
   refused(c, "max_q_ratio");

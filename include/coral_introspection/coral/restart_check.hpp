@@ -46,6 +46,12 @@ struct RestartConfig {
   std::size_t coarse_points = 500;
   double coarse_min_step = 1e-3;
   double coarse_back_within = 1.0;  // [tolerances] in (0, min_distance]
+  // [tolerances] in [0, coarse_back_within]: a start whose coarse registration comes within
+  // this of where an earlier start's ended is stopped there and counted with that one
+  // (RestartResult::merged), not registered again: the starts that end away mostly end at one pose
+  // (the revisit, or a pose along repeated structure), and each full registration of a dense scan
+  // costs 0.03-0.05 s (doc/loop_closure.md "The cost of a rejection"). 0 = register each.
+  double coarse_same_within = 0.25;
   RegistrationConfig registration;
   std::string validate() const;  // empty when valid
 };
@@ -58,6 +64,7 @@ struct RestartResult {
   double q = 0.0;              // its Q [nats]
   double q_candidate = 0.0;    // the candidate's Q [nats]
   int starts = 0, usable = 0;  // registrations run and usable (RegistrationResult::usable)
+  int merged = 0;  // starts counted with an earlier one (RestartConfig::coarse_same_within)
 };
 
 // The loop verdict at one pose, as the check needs it.
@@ -71,12 +78,15 @@ using PoseJudge = std::function<JudgedPose(const Eigen::Isometry3d& T_a_b)>;
 // For the candidate T_a_b of the prepared pair (a in its frame, b in its own), judged
 // `candidate` at its pose: registers pair.points(1) onto pair.points(0) from every start
 // (SurfaceTarget, cfg.registration) and judges each usable result at least
-// cfg.min_distance tolerances away with `judge`. Preconditions: cfg.validate() and
-// tolerance.validate() are empty. Never throws.
+// cfg.min_distance tolerances away with `judge` (only those whose Q and overlap, one CorAl
+// evaluation, could make them better). `target`, when given, is pair.points(0) prepared with
+// pair.config() and cfg.registration (shared with registeredNearby); else one is built.
+// Preconditions: cfg.validate() and tolerance.validate() are empty. Never throws.
 RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                        const JudgedPose& candidate,
                                        const ToleranceConfig& tolerance, const RestartConfig& cfg,
-                                       const PoseJudge& judge);
+                                       const PoseJudge& judge,
+                                       const SurfaceTarget* target = nullptr);
 
 // A loop candidate the verdict rejects at its pose, registered once from that pose (the loop
 // gate's max_registered_offset, verdict.hpp). A back end's ICP that stopped 0.15-0.3 m short
@@ -91,18 +101,25 @@ struct NearbyAlignment {
   bool run = false;       // registered (the verdict rejected a valid candidate at its pose)
   bool usable = false;    // the registration gave a pose (RegistrationResult::usable)
   bool accepted = false;  // usable, within max_size tolerances, and `accepts` said yes there
+  bool screened = false;  // ended by the screen (below) a tolerance away, where T_a_b is
   Eigen::Isometry3d T_a_b = Eigen::Isometry3d::Identity();  // the registered pose
   double size = 0.0;  // its distance from the candidate's pose [tolerances] (toleranceSize)
 };
 
-// Registers pair.points(1) onto pair.points(0) from T_a_b (SurfaceTarget, cfg) and, when the
-// result is usable and within max_size tolerances of T_a_b, asks `accepts` about it (called
-// at most once). Preconditions: cfg.validate() and tolerance.validate() are empty. Never
-// throws.
+// Registers pair.points(1) onto pair.points(0) from T_a_b (SurfaceTarget,
+// restart.registration) and, when the result is usable and within max_size tolerances of
+// T_a_b, asks `accepts` about it (called at most once). A dense scan (more points than
+// restart.coarse_points) with max_size < 1 is screened: registered first by the restart
+// check's coarse phase (coarse_points, coarse_min_step), then fully from T_a_b, each stopped
+// once the pose is a tolerance away (it has left the tolerance: `screened`, not accepted, not
+// asked). A registration that stays within a tolerance ends as without the screen. `target`:
+// as betterAlignmentElsewhere's. Preconditions: restart.validate() and tolerance.validate()
+// are empty. Never throws.
 NearbyAlignment registeredNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
-                                 const ToleranceConfig& tolerance, const RegistrationConfig& cfg,
+                                 const ToleranceConfig& tolerance, const RestartConfig& restart,
                                  double max_size,
-                                 const std::function<bool(const Eigen::Isometry3d&)>& accepts);
+                                 const std::function<bool(const Eigen::Isometry3d&)>& accepts,
+                                 const SurfaceTarget* target = nullptr);
 
 }  // namespace coral
 }  // namespace coral_introspection

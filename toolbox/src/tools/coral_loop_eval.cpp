@@ -136,8 +136,8 @@ Judged judgeCandidate(const eval::LoopCandidate& c, const coral::Scan& a, const 
   }
   if (gate.max_registered_offset > 0.0) {
     j.v.nearby = coral::registeredNearby(
-        *pj.prepared, c.T_a_b, verdict.tolerance, verdict.restart.registration,
-        gate.max_registered_offset, [&](const Eigen::Isometry3d& T) {
+        *pj.prepared, c.T_a_b, verdict.tolerance, verdict.restart, gate.max_registered_offset,
+        [&](const Eigen::Isometry3d& T) {
           const coral::AlignmentVerdict w = judgeAt(T);
           return eval::loopGateAccepts("verdict", c, w, verdict) &&
                  w.classifier.probability >= gate.registered_min_probability &&
