@@ -235,11 +235,13 @@ bool ParamTree::getList(const std::string& path, std::size_t n, std::vector<doub
   bool ok = true;
   const ParamNode* node = lookup(path, &ok);
   if (node == nullptr) return ok;
-  const std::string expected = "a list of " + std::to_string(n) + " numbers";
+  const std::string expected =
+      n == 0 ? "a list of one number or more" : "a list of " + std::to_string(n) + " numbers";
   const bool numbers = std::all_of(node->list.begin(), node->list.end(), [](const Scalar& s) {
     return s.type == Scalar::Type::kInt || s.type == Scalar::Type::kDouble;
   });
-  if (node->kind != ParamNode::Kind::kList || node->list.size() != n || !numbers)
+  const bool size_ok = n == 0 ? !node->list.empty() : node->list.size() == n;
+  if (node->kind != ParamNode::Kind::kList || !size_ok || !numbers)
     return typeError(path, *node, expected.c_str());
   out->clear();
   for (const Scalar& s : node->list)
@@ -352,7 +354,12 @@ std::string nearestName(const std::string& name, const std::vector<std::string>&
   std::size_t best_score = limit + 1;
   std::string best;
   for (const std::string& c : valid) {
-    const std::size_t score = editDistance(leaf, leafOf(c)) + (groupOf(c) != group ? 1 : 0);
+    std::size_t score = editDistance(leaf, leafOf(c)) + (groupOf(c) != group ? 1 : 0);
+    // The whole name too, '/' written as '_' (`coral_radius` for coral/radius): by the leaf
+    // alone that was nearest to registration/normal_radius.
+    std::string flat = c;
+    std::replace(flat.begin(), flat.end(), '/', '_');
+    score = std::min(score, editDistance(name, flat));
     if (score < best_score && score < leaf.size()) best_score = score, best = c;
   }
   return best;

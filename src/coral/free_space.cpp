@@ -15,11 +15,11 @@ namespace coral {
 
 std::string FreeSpaceConfig::validate() const {
   return Problems()
-      .require(bin_deg > 0.0 && bin_deg <= 10.0, "free_space bin_deg", "in (0, 10] deg", bin_deg)
-      .require(margin > 0.0, "free_space margin", "> 0 m", margin)
-      .require(min_tested >= 1, "free_space min_tested", ">= 1", min_tested)
-      .require(min_extent >= 0.0, "free_space min_extent", ">= 0 m (0 = every conflict)",
-               min_extent)
+      .require(bin_deg > 0.0 && bin_deg <= 10.0, "bin_deg", "in (0, 10] deg", bin_deg)
+      .require(margin > 0.0 && margin <= 100.0, "margin", "in (0, 100] m", margin)
+      .require(min_tested >= 1, "min_tested", ">= 1", min_tested)
+      .require(min_extent >= 0.0 && min_extent <= 100.0, "min_extent",
+               "in [0, 100] m (0 = every conflict)", min_extent)
       .str();
 }
 

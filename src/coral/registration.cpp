@@ -16,13 +16,14 @@ namespace coral {
 
 std::string RegistrationConfig::validate() const {
   return Problems()
-      .require(std::isfinite(max_correspondence) && max_correspondence > 0.0, "max_correspondence",
-               "> 0 m", max_correspondence)
-      .require(max_iterations >= 1, "max_iterations", ">= 1", max_iterations)
+      .require(max_correspondence > 0.0 && max_correspondence <= 100.0, "max_correspondence",
+               "in (0, 100] m", max_correspondence)
+      .require(max_iterations >= 1 && max_iterations <= 1000, "max_iterations", "in [1, 1000]",
+               max_iterations)
       .require(std::isfinite(min_step) && min_step > 0.0, "min_step", "> 0", min_step)
       .require(min_correspondences >= 3, "min_correspondences", ">= 3", min_correspondences)
-      .require(std::isfinite(normal_radius) && normal_radius >= 0.0, "normal_radius",
-               ">= 0 m (0 = CorAl's radius)", normal_radius)
+      .require(normal_radius >= 0.0 && normal_radius <= 10.0, "normal_radius",
+               "in [0, 10] m (0 = CorAl's radius)", normal_radius)
       .require(std::isfinite(robust_scale) && robust_scale >= 0.0, "robust_scale",
                ">= 0 m (0 = least squares)", robust_scale)
       .str();

@@ -9,12 +9,12 @@
 namespace coral_introspection {
 namespace coral {
 
-std::string RestartConfig::validate() const {
-  bool radii_ok = !radii.empty();
-  for (double r : radii) radii_ok = radii_ok && std::isfinite(r) && r > 0.0;
+std::string RestartConfig::validateStarts() const {
+  bool radii_ok = !radii.empty() && radii.size() <= 8;
+  for (double r : radii) radii_ok = radii_ok && r > 0.0 && r <= 100.0;
   return Problems()
-      .require(radii_ok, "radii", "non-empty, each > 0", radii.size())
-      .require(directions >= 1, "directions", ">= 1", directions)
+      .require(radii_ok, "radii", "1-8 entries, each in (0, 100] tolerances", radii.size())
+      .require(directions >= 1 && directions <= 64, "directions", "in [1, 64]", directions)
       .require(min_distance > 0.0, "min_distance", "> 0 tolerances", min_distance)
       .require(max_q_ratio > 0.0 && max_q_ratio <= 1.0, "max_q_ratio", "in (0, 1]", max_q_ratio)
       .require(min_overlap_ratio >= 0.0 && min_overlap_ratio <= 1.0, "min_overlap_ratio",
@@ -25,6 +25,13 @@ std::string RestartConfig::validate() const {
                "in (0, min_distance] tolerances", coarse_back_within)
       .require(coarse_same_within >= 0.0 && coarse_same_within <= coarse_back_within,
                "coarse_same_within", "in [0, coarse_back_within] tolerances", coarse_same_within)
+      .str();
+}
+
+std::string RestartConfig::validate() const {
+  const std::string starts = validateStarts();
+  return Problems()
+      .require(starts.empty(), starts)
       .nested("registration", registration.validate())
       .str();
 }

@@ -26,6 +26,8 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
   int dir = c->polar.direction == radar::AzimuthDirection::kClockwise ? 1 : 0;
   int seed = static_cast<int>(o.doppler.check.seed);
   int method = static_cast<int>(o.verdict.method);  // coral::VerdictMethod order
+  coral::RestartConfig& rs = o.verdict.restart;     // restart/, registration/
+  int coarse_points = static_cast<int>(rs.coarse_points);
   const bool ok =
       r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
@@ -86,6 +88,20 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("loop_closure/max_registered_offset", &o.verdict.loop_closure.max_registered_offset) &&
       r.get("loop_closure/registered_min_probability",
             &o.verdict.loop_closure.registered_min_probability) &&
+      r.getList("restart/radii", 0, &rs.radii) && r.get("restart/directions", &rs.directions) &&
+      r.get("restart/min_distance", &rs.min_distance) &&
+      r.get("restart/max_q_ratio", &rs.max_q_ratio) &&
+      r.get("restart/min_overlap_ratio", &rs.min_overlap_ratio) &&
+      r.get("restart/coarse_points", &coarse_points) &&
+      r.get("restart/coarse_min_step", &rs.coarse_min_step) &&
+      r.get("restart/coarse_back_within", &rs.coarse_back_within) &&
+      r.get("restart/coarse_same_within", &rs.coarse_same_within) &&
+      r.get("registration/max_correspondence", &rs.registration.max_correspondence) &&
+      r.get("registration/max_iterations", &rs.registration.max_iterations) &&
+      r.get("registration/min_step", &rs.registration.min_step) &&
+      r.get("registration/min_correspondences", &rs.registration.min_correspondences) &&
+      r.get("registration/normal_radius", &rs.registration.normal_radius) &&
+      r.get("registration/robust_scale", &rs.registration.robust_scale) &&
       r.get("free_space/bin_deg", &o.verdict.free_space.bin_deg) &&
       r.get("free_space/margin", &o.verdict.free_space.margin) &&
       r.get("free_space/min_tested", &o.verdict.free_space.min_tested) &&
@@ -139,6 +155,10 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
   if (seed < 0)
     return r.fail("parameter doppler/seed must be >= 0 (got " + std::to_string(seed) + ")");
   o.doppler.check.seed = static_cast<unsigned>(seed);
+  if (coarse_points < 0)
+    return r.fail("parameter restart/coarse_points must be >= 0, 0 = off (got " +
+                  std::to_string(coarse_points) + ")");
+  rs.coarse_points = static_cast<std::size_t>(coarse_points);
   return true;
 }
 

@@ -116,6 +116,11 @@ TEST(ParamTree, ScalarsAreTypedLikeRosparam) {
   EXPECT_EQ(v, (std::vector<double>{1.0, 2.5}));
   EXPECT_FALSE(t.getList("h", 3, &v));
   EXPECT_EQ(t.error(), "parameter h must be a list of 3 numbers (got a list)");
+  v.clear();
+  ASSERT_TRUE(t.getList("h", 0, &v)) << t.error();  // any length
+  EXPECT_EQ(v, (std::vector<double>{1.0, 2.5}));
+  EXPECT_FALSE(t.getList("a", 0, &v));
+  EXPECT_EQ(t.error().find("parameter a must be a list of one number or more"), 0u) << t.error();
   // Absent: unchanged, no error.
   d = 7.0;
   EXPECT_TRUE(t.get("nothing/here", &d));
@@ -168,6 +173,9 @@ TEST(ParamTree, FilesAndSyntaxErrors) {
 TEST(ParamTree, DidYouMeanOnlyForCloseNames) {
   const std::vector<std::string> valid = {"imu_topic", "radar_topic", "trigger_topic"};
   EXPECT_EQ(config::didYouMean("radar_topc", valid), " (did you mean radar_topic?)");
+  // '/' written as '_': the whole name, not only its leaf.
+  const std::vector<std::string> paths = {"coral/radius", "registration/normal_radius"};
+  EXPECT_EQ(config::didYouMean("coral_radius", paths), " (did you mean coral/radius?)");
   EXPECT_EQ(config::didYouMean("lidar", valid), "");
   EXPECT_EQ(config::didYouMean("x", {"y"}), "");  // one letter off a one-letter key is no hint
 }

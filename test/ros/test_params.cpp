@@ -206,7 +206,8 @@ TEST(Params, UnknownGroupsAndKeysAreErrors) {
   t["coral_radius"] = 0.5;
   t["diagnostic_period"] = 2.0;
   EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
-  EXPECT_EQ(err, "unknown key coral_radius; unknown key diagnostic_period");
+  EXPECT_EQ(err,
+            "unknown key coral_radius (did you mean coral/radius?); unknown key diagnostic_period");
   EXPECT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err, {"coral_radius", "diagnostic_period"}))
       << err;
 }
@@ -238,4 +239,60 @@ TEST(Params, DenseLidarKeysReachTheCoralConfig) {
   t["coral"]["threads"] = 0;
   EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
   EXPECT_NE(err.find("threads"), std::string::npos) << err;
+}
+
+// The restart check and the package's registration (restart/, registration/) reach the verdict
+// config; they and free_space/ are validated at load: free_space/bin_deg 0 once reached the
+// free-space check and threw there (a crash of every nodelet in the manager).
+TEST(Params, RestartRegistrationAndFreeSpaceReadAndValidated) {
+  XmlRpcValue t;
+  XmlRpcValue radii;
+  radii[0] = 1.5;
+  radii[1] = 3;  // an integer is a number
+  radii[2] = 5.0;
+  t["restart"]["radii"] = radii;
+  t["restart"]["directions"] = 4;
+  t["restart"]["coarse_points"] = 0;
+  t["restart"]["coarse_same_within"] = 0.1;
+  t["registration"]["normal_radius"] = 1.0;
+  t["registration"]["max_iterations"] = 30;
+  ros_adapters::NodeConfig c;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
+  const coral::RestartConfig& r = c.online.verdict.restart;
+  EXPECT_EQ(r.radii, (std::vector<double>{1.5, 3.0, 5.0}));
+  EXPECT_EQ(r.directions, 4);
+  EXPECT_EQ(r.coarse_points, 0u);
+  EXPECT_EQ(r.coarse_same_within, 0.1);
+  EXPECT_EQ(r.registration.normal_radius, 1.0);
+  EXPECT_EQ(r.registration.max_iterations, 30);
+  EXPECT_EQ(r.min_distance, coral::RestartConfig().min_distance);  // absent: the default
+  const struct {
+    const char *group, *key;
+    XmlRpcValue value;
+    const char* message;
+  } bad[] = {
+      {"free_space", "bin_deg", XmlRpcValue(0.0), "free_space/bin_deg must be in (0, 10] deg"},
+      {"free_space", "margin", XmlRpcValue(-1.0), "free_space/margin"},
+      {"restart", "directions", XmlRpcValue(0), "restart/directions must be in [1, 64]"},
+      {"restart", "coarse_points", XmlRpcValue(-5), "restart/coarse_points must be >= 0"},
+      {"restart", "coarse_same_within", XmlRpcValue(2.0), "restart/coarse_same_within"},
+      {"restart", "max_q_ratio", XmlRpcValue(1.5), "restart/max_q_ratio must be in (0, 1]"},
+      {"registration", "max_iterations", XmlRpcValue(0), "registration/max_iterations"},
+      {"registration", "normal_radius", XmlRpcValue(-1.0), "registration/normal_radius"},
+  };
+  for (const auto& b : bad) {
+    XmlRpcValue u;
+    u[b.group][b.key] = b.value;
+    c = ros_adapters::NodeConfig();
+    EXPECT_FALSE(ros_adapters::loadNodeConfig(u, &c, &err)) << b.group << "/" << b.key;
+    EXPECT_NE(err.find(b.message), std::string::npos) << err;
+  }
+  XmlRpcValue empty;
+  empty.setSize(0);
+  XmlRpcValue e;
+  e["restart"]["radii"] = empty;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(e, &c, &err));
+  EXPECT_NE(err.find("restart/radii must be a list of one number or more"), std::string::npos)
+      << err;
 }

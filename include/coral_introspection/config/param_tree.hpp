@@ -85,7 +85,7 @@ class ParamTree {
   bool get(const std::string& path, int* out);
   bool get(const std::string& path, bool* out);
   bool get(const std::string& path, std::string* out);
-  // A list of exactly n numbers.
+  // A list of exactly n numbers; n = 0: a list of one number or more.
   bool getList(const std::string& path, std::size_t n, std::vector<double>* out);
   // A string restricted to `allowed`; *index: position in allowed (its entry the default).
   bool getChoice(const std::string& path, const std::vector<std::string>& allowed, int* index);

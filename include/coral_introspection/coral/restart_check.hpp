@@ -53,7 +53,8 @@ struct RestartConfig {
   // costs 0.03-0.05 s (doc/loop_closure.md "The cost of a rejection"). 0 = register each.
   double coarse_same_within = 0.25;
   RegistrationConfig registration;
-  std::string validate() const;  // empty when valid
+  std::string validate() const;        // empty when valid; registration's messages "registration: "
+  std::string validateStarts() const;  // the same without registration's
 };
 
 struct RestartResult {
