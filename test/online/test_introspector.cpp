@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "coral_introspection/eval/doppler_simulation.hpp"
@@ -289,6 +290,29 @@ TEST(Introspector, ResetStartsANewSequenceAndSetConfigValidates) {
   gap.pairing.max_time_gap = 0.05;  // takes effect on the next scan, stream state kept
   ASSERT_TRUE(intro.setConfig(gap, &err)) << err;
   EXPECT_EQ(intro.process(tinyInput(1.2, Vec3(2, 0, 0))).action, PairAction::kGapReset);
+}
+
+// Every group of the verdict's settings is validated, under its parameter group's name:
+// free_space/ once was not (bin_deg 0 threw in the free-space check), nor restart/ and
+// registration/ (read as parameters since 2026-12-06).
+TEST(IntrospectorConfig, ValidatesFreeSpaceRestartAndRegistration) {
+  EXPECT_EQ(online::IntrospectorConfig().validate(), "");
+  const struct {
+    std::function<void(online::IntrospectorConfig*)> set;
+    const char* message;
+  } bad[] = {
+      {[](online::IntrospectorConfig* c) { c->verdict.free_space.bin_deg = 0.0; },
+       "free_space/bin_deg must be in (0, 10] deg (got 0)"},
+      {[](online::IntrospectorConfig* c) { c->verdict.restart.directions = 0; },
+       "restart/directions must be in [1, 64] (got 0)"},
+      {[](online::IntrospectorConfig* c) { c->verdict.restart.registration.max_iterations = 0; },
+       "registration/max_iterations must be in [1, 1000] (got 0)"},
+  };
+  for (const auto& b : bad) {
+    online::IntrospectorConfig c;
+    b.set(&c);
+    EXPECT_NE(c.validate().find(b.message), std::string::npos) << c.validate();
+  }
 }
 
 TEST(JudgePair, ExplainsWhyThereIsNoVerdict) {
