@@ -64,16 +64,21 @@ std::string GateConfig::validate() const {
       .str();
 }
 
+std::vector<VerdictConfig::GroupProblems> VerdictConfig::problemsByGroup() const {
+  return {{"classifier", classifier.validate()},
+          {"classifier", relative.validate()},  // relative_margin, flat_ratio, ...
+          {"tolerance", tolerance.validate()},
+          {"gate", gate.validate()},
+          {"loop_closure", loop_closure.validate()},
+          {"free_space", free_space.validate()},
+          {"restart", restart.validateStarts()},
+          {"registration", restart.registration.validate()}};
+}
+
 std::string VerdictConfig::validate() const {
-  return Problems()
-      .nested("classifier", classifier.validate())
-      .nested("tolerance", tolerance.validate())
-      .nested("relative", relative.validate())
-      .nested("gate", gate.validate())
-      .nested("loop_closure", loop_closure.validate())
-      .nested("free_space", free_space.validate())
-      .nested("restart", restart.validate())
-      .str();
+  Problems p;
+  for (const GroupProblems& g : problemsByGroup()) p.nested(g.group, g.problems);
+  return p.str();
 }
 
 VerdictConfig loopClosureVerdict(const VerdictConfig& cfg) {

@@ -33,16 +33,9 @@ std::string IntrospectorConfig::validate() const {
   std::string e;
   add(&e, pairing.validate());  // names its parameters itself
   add(&e, prefixMessages("coral/", coral.validate()));
-  add(&e, prefixMessages("classifier/", verdict.classifier.validate()));
-  add(&e, prefixMessages("classifier/", verdict.relative.validate()));  // relative_margin, ...
-  add(&e, prefixMessages("tolerance/", verdict.tolerance.validate()));
-  add(&e, prefixMessages("gate/", verdict.gate.validate()));
-  add(&e, prefixMessages("loop_closure/", verdict.loop_closure.validate()));
-  // Read from their own groups (a bad free_space/bin_deg once reached the free-space check
-  // and threw there).
-  add(&e, prefixMessages("free_space/", verdict.free_space.validate()));
-  add(&e, prefixMessages("restart/", verdict.restart.validateStarts()));
-  add(&e, prefixMessages("registration/", verdict.restart.registration.validate()));
+  // The verdict's groups, from its one list (coral::VerdictConfig::problemsByGroup).
+  for (const coral::VerdictConfig::GroupProblems& g : verdict.problemsByGroup())
+    add(&e, prefixMessages(std::string(g.group) + "/", g.problems));
   add(&e, prefixMessages("motion_compensation/", deskew.validate()));
   if (doppler.enabled) add(&e, prefixMessages("doppler/", doppler.validate()));
   if (calibration.enabled) add(&e, prefixMessages("calibration/", calibration.validate()));

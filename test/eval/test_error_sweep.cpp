@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/error_sweep.hpp"
@@ -49,4 +51,46 @@ TEST(ErrorSweep, MultiplesAndYawAnglesOffTheDefaultGrid) {
   EXPECT_EQ(yaw180, 1);
   // The defaults are the grid of the doc's tables.
   EXPECT_EQ(eval::sweepErrors(tol, 2).size(), 1u + 4u * 6u + 9u);
+}
+
+// "Any rotation" (coral_error_sweep --turn_axes): the fixed angles about roll, pitch and the
+// tilted axis (1, 1, 1) in 3D, left out in 2D. Known answers: +90 deg of roll takes y to z,
+// +90 deg of pitch takes z to x, and 120 deg about (1, 1, 1) permutes the axes x -> y -> z.
+TEST(ErrorSweep, TurnsAboutRollPitchAndATiltedAxis) {
+  const coral::ToleranceConfig tol{0.3, 2.0};
+  const std::vector<eval::TurnAxis> axes = {eval::TurnAxis::kRoll, eval::TurnAxis::kPitch,
+                                            eval::TurnAxis::kTilted};
+  const auto errors = eval::sweepErrors(tol, 3, {}, {90.0, 120.0, 180.0}, axes);
+  ASSERT_EQ(errors.size(), 1u + 3u * (2u + 2u + 1u));
+  std::map<std::string, Eigen::Isometry3d> by_label;
+  for (const eval::SweepError& e : errors) {
+    by_label[e.label] = e.delta;
+    if (e.ground_truth) continue;
+    EXPECT_NEAR(e.delta.translation().norm(), 0.0, 1e-12) << e.label;
+    const double angle = Eigen::AngleAxisd(e.delta.linear()).angle() * 180.0 / M_PI;
+    EXPECT_NEAR(angle, e.magnitude, 1e-9) << e.label;
+  }
+  ASSERT_EQ(by_label.count("roll+90deg") + by_label.count("pitch-90deg") +
+                by_label.count("tilted+120deg") + by_label.count("tilted+180deg"),
+            4u);
+  EXPECT_EQ(by_label.count("tilted-180deg"), 0u) << "+180 = -180";
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  EXPECT_TRUE((by_label["roll+90deg"] * y).isApprox(z, 1e-12));
+  EXPECT_TRUE((by_label["pitch+90deg"] * z).isApprox(x, 1e-12));
+  EXPECT_TRUE((by_label["tilted+120deg"] * x).isApprox(y, 1e-12));
+  EXPECT_TRUE((by_label["tilted+120deg"] * y).isApprox(z, 1e-12));
+  for (const eval::SweepError& e : errors)
+    EXPECT_EQ(e.axis_name, e.label.rfind("tilted", 0) == 0 ? "tilted" : "") << e.label;
+  // The yaw turns are the default grid's, whichever axes come with them.
+  const auto yaw = eval::sweepErrors(tol, 3, {}, {90.0}, {eval::TurnAxis::kYaw});
+  ASSERT_EQ(yaw.size(), 3u);
+  EXPECT_EQ(yaw[1].label, "yaw+90deg");
+  EXPECT_TRUE((yaw[1].delta * x).isApprox(y, 1e-12));
+  // A 2D scan has no roll or pitch: only ground truth is left.
+  EXPECT_EQ(eval::sweepErrors(tol, 2, {}, {90.0}, axes).size(), 1u);
+  eval::TurnAxis a;
+  EXPECT_TRUE(eval::parseTurnAxis("tilted", &a));
+  EXPECT_EQ(a, eval::TurnAxis::kTilted);
+  EXPECT_FALSE(eval::parseTurnAxis("Roll", &a));
 }

@@ -315,6 +315,32 @@ TEST(IntrospectorConfig, ValidatesFreeSpaceRestartAndRegistration) {
   }
 }
 
+// The verdict's settings groups are validated from one list (VerdictConfig::problemsByGroup):
+// a value broken in each group is reported by the core's validate() ("gate: ...") and by the
+// nodelet's ("gate/..."), each under the group name the presets use.
+TEST(IntrospectorConfig, EveryVerdictGroupIsValidatedByBoth) {
+  online::IntrospectorConfig c;
+  for (const coral::VerdictConfig::GroupProblems& g : c.verdict.problemsByGroup())
+    EXPECT_EQ(g.problems, "") << g.group;
+  c.verdict.classifier.threshold = 2.0;
+  c.verdict.relative.margin = std::nan("");
+  c.verdict.tolerance.translation = -1.0;
+  c.verdict.gate.min_probability = 2.0;
+  c.verdict.loop_closure.max_registered_offset = 1.0;
+  c.verdict.free_space.bin_deg = 0.0;
+  c.verdict.restart.directions = 0;
+  c.verdict.restart.registration.max_iterations = 0;
+  const std::vector<coral::VerdictConfig::GroupProblems> groups = c.verdict.problemsByGroup();
+  ASSERT_EQ(groups.size(), 8u);
+  const std::string core = c.verdict.validate(), node = c.validate();
+  for (const coral::VerdictConfig::GroupProblems& g : groups) {
+    EXPECT_NE(g.problems, "") << g.group << " (a value of each group is broken)";
+    const std::string first = g.problems.substr(0, g.problems.find("; "));
+    EXPECT_NE(core.find(std::string(g.group) + ": " + first), std::string::npos) << core;
+    EXPECT_NE(node.find(std::string(g.group) + "/" + first), std::string::npos) << node;
+  }
+}
+
 TEST(JudgePair, ExplainsWhyThereIsNoVerdict) {
   std::mt19937 rng(1);
   eval::LidarModel m;

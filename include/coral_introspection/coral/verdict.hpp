@@ -137,7 +137,18 @@ struct VerdictConfig {
   // Measure the free-space and constraint terms even when `gate` does not use them
   // (evaluation: every term of every pair, coral_loop_eval); never changes a verdict.
   bool measure_gate_terms = false;
-  std::string validate() const;  // empty when valid
+  std::string validate() const;  // empty when valid: every group of problemsByGroup()
+
+  // The problems of each settings group, named as presets and the nodelet name the group
+  // (classifier/ also holds the relative check's settings; restart/ the check's starts,
+  // registration/ its registration). The one list validate() and
+  // online::IntrospectorConfig::validate() walk, so that no group is validated by one and
+  // forgotten by the other (free_space/ once was, and a bad bin_deg threw in the check).
+  struct GroupProblems {
+    const char* group;
+    std::string problems;  // empty when valid
+  };
+  std::vector<GroupProblems> problemsByGroup() const;
 };
 
 // The verdict configuration of a loop-closure request: method kGated with the loop gate.

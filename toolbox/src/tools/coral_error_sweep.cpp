@@ -5,7 +5,10 @@
 // behind it, so decision rules can be compared offline; a summary per error size on stderr.
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
 //       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)]
-//       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--rows all|even|odd] [--out FILE.csv]
+//       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--turn_axes yaw,roll,pitch,tilted]
+//       [--rows all|even|odd] [--out FILE.csv]
+// --turn_axes: the axes the fixed angles of --yaw_deg turn about (default yaw; roll, pitch and
+// tilted, about (1, 1, 1), need a 3D preset): "any rotation", not only yaw.
 // --rows even|odd: only the pairs of even / odd index (tuning and held-out halves), every
 // --stride-th of those.
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
@@ -18,6 +21,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -34,7 +38,8 @@ namespace {
 constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
     "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] "
-    "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] [--rows all|even|odd] "
+    "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] "
+    "[--turn_axes A1,A2,... (yaw, roll, pitch, tilted; default yaw)] [--rows all|even|odd] "
     "[--out FILE.csv]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
@@ -45,10 +50,10 @@ int main(int argc, char** argv) {
   eval::ToolArgs args;
   std::string err;
   int stride = 1;
-  if (!eval::parseToolArgs(
-          argc, argv,
-          {"--config", "--data", "--stride", "--multiples", "--yaw_deg", "--rows", "--out"}, {},
-          &args, &err) ||
+  if (!eval::parseToolArgs(argc, argv,
+                           {"--config", "--data", "--stride", "--multiples", "--yaw_deg",
+                            "--turn_axes", "--rows", "--out"},
+                           {}, &args, &err) ||
       !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
   if (args.help) {
@@ -73,6 +78,19 @@ int main(int argc, char** argv) {
   for (double d : yaw_degrees)
     if (!(d > 0.0 && d <= 180.0))
       return fail("--yaw_deg: " + std::to_string(d) + " is not an angle in (0, 180] deg");
+  // --turn_axes: the axes of those fixed angles (default yaw).
+  std::vector<eval::TurnAxis> turn_axes = eval::sweepTurnAxes();
+  if (args.has("--turn_axes")) {
+    turn_axes.clear();
+    std::stringstream list(args.get("--turn_axes"));
+    for (std::string name; std::getline(list, name, ',');) {
+      eval::TurnAxis a;
+      if (!eval::parseTurnAxis(name, &a))
+        return fail("--turn_axes: '" + name + "' is none of yaw, roll, pitch, tilted");
+      turn_axes.push_back(a);
+    }
+    if (turn_axes.empty()) return fail("--turn_axes: no axis given");
+  }
   std::string rows;
   if (!eval::choiceOption(args, "--rows", {"all", "even", "odd"}, &rows, &err)) return fail(err);
   if (config.empty() || !args.has("--data")) return fail("--config and --data are required");
@@ -81,6 +99,10 @@ int main(int argc, char** argv) {
   coral::VerdictConfig verdict;
   if (!ros_eval::loadPresetFile(config, &node, &verdict, &err))
     return fail(err);  // names the file (and line)
+  for (eval::TurnAxis a : turn_axes)
+    if (a != eval::TurnAxis::kYaw && node.online.coral.dimension != 3)
+      return fail(std::string("--turn_axes: ") + eval::turnAxisName(a) + " needs a 3D preset (" +
+                  config + " is 2D: its scans turn about yaw only)");
   // Every term of the verdict (classifier and relative check) in the CSV, `aligned` as method
   // both combines them; the summary and the CSV's last column (preset_aligned) count the
   // preset's own method and gate, combined from the same terms.
@@ -105,8 +127,8 @@ int main(int argc, char** argv) {
     opt.oxford.motion_compensation = node.online.deskew.enabled;
     eval::PairDataset d;
     if (!eval::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
-    const std::vector<eval::SweepError> errors =
-        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension, multiples, yaw_degrees);
+    const std::vector<eval::SweepError> errors = eval::sweepErrors(
+        verdict.tolerance, node.online.coral.dimension, multiples, yaw_degrees, turn_axes);
     const std::size_t first = rows == "odd" ? 1 : 0, step = (rows == "all" ? 1 : 2) * stride;
     for (std::size_t i = first; i < d.pairs.size(); i += step) {
       const eval::ScanPair& p = d.pairs[i];
