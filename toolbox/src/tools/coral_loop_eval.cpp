@@ -14,6 +14,12 @@
 //   5. with --pcm PROBABILITY, per gate, the graph of the largest set of pairwise consistent
 //      loop edges (eval/pairwise_consistency.hpp: PCM's cycles through the odometry under a
 //      chi-square bound of that probability) (--out_dir: GATE_pcm.tum / .kitti);
+//   6. with --timing, the preset's loop verdict run once more per candidate as a back end
+//      gets it (online::judgePair with coral::loopClosureVerdict: coral_check --loop_closure,
+//      check_alignment with loop_closure), timed: median, 90th percentile and largest time per
+//      kind of candidate (true / false, accepted / rejected), and the candidates whose verdict
+//      there differs from the table's gate "verdict" (which step 2 combines from one
+//      evaluation with every term; none expected);
 // The verdict gates include the loop gate's restart check when the preset turns it on
 // (loop_closure/restarts, coral/restart_check.hpp), as coral_check --loop_closure does; a
 // better alignment it finds is the candidate's refined pose (gate `refined`).
@@ -21,7 +27,7 @@
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt|icp (3D) | icp|point_to_line (2D)]
 //       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
-//       [--lookalikes N]
+//       [--lookalikes N] [--timing]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -34,6 +40,7 @@
 // a multiple of the default holds the default's pairs and new ones (a larger false set).
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -43,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/statistics.hpp"
 #include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/carmen_loops.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
@@ -62,7 +70,7 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt|icp (3D, default "
     "gicp) | icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] "
-    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--lookalikes N]";
+    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--lookalikes N] [--timing]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -90,7 +98,52 @@ struct Judged {
   bool has_refined = false;
   coral::AlignmentVerdict v_refined;
   Eigen::Isometry3d T_edge_refined = Eigen::Isometry3d::Identity();
+  // --timing: the preset's loop verdict as a back end gets it, its time [s] (< 0: not run).
+  double seconds = -1.0;
+  bool timed_accepted = false;
 };
+
+// --timing: the preset's loop verdict of candidate c (scans a, b) as coral_check --loop_closure
+// runs it, into j->seconds and j->timed_accepted.
+void timeVerdict(const coral::Scan& a, const coral::Scan& b, const online::IntrospectorConfig& loop,
+                 Judged* j) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const coral::AlignmentVerdict v = online::judgePair(a, b, j->c.T_a_b, loop, false).verdict;
+  j->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  j->timed_accepted = v.valid && v.aligned;
+}
+
+// --timing's report: per kind of candidate, the verdict's time; the candidates whose timed
+// verdict differs from the table's gate "verdict".
+void printTiming(const std::vector<const Judged*>& table, const coral::VerdictConfig& verdict) {
+  std::map<std::string, std::vector<double>> by_kind;
+  int differ = 0;
+  for (const Judged* j : table) {
+    const bool table_accepted = eval::loopGateAccepts("verdict", j->c, j->v, verdict);
+    by_kind[std::string(j->c.is_true ? "true" : "false") +
+            (j->timed_accepted ? ", accepted" : ", rejected")]
+        .push_back(j->seconds);
+    if (table_accepted != j->timed_accepted) {
+      ++differ;
+      std::printf("timing: candidate %d-%d (%s): the verdict %s it, the table's gate %s it\n",
+                  j->c.a, j->c.b, j->c.source.c_str(), j->timed_accepted ? "accepts" : "rejects",
+                  table_accepted ? "accepts" : "rejects");
+    }
+  }
+  // 0.1 s: the bound for a loop verdict on a 64-beam pair.
+  std::printf(
+      "loop verdict time per candidate [s] (one thread; --timing)\n%-16s %6s %8s %8s %8s %8s\n",
+      "candidates", "n", "median", "p90", "max", ">0.1 s");
+  for (auto& [kind, t] : by_kind) {
+    std::sort(t.begin(), t.end());
+    const auto over = std::count_if(t.begin(), t.end(), [](double x) { return x > 0.1; });
+    std::printf("%-16s %6zu %8.4f %8.4f %8.4f %8ld\n", kind.c_str(), t.size(), coral::median(t),
+                t[static_cast<std::size_t>(0.9 * static_cast<double>(t.size() - 1))], t.back(),
+                static_cast<long>(over));
+  }
+  std::printf("timing: the verdict differs from the table's gate on %d of %zu candidates\n", differ,
+              table.size());
+}
 
 // One evaluation of candidate c of scans (a, b) (method kBoth, every gate term), and, as
 // coral::judgeAlignment does for the loop verdict: when the verdict accepts it there and the
@@ -171,7 +224,7 @@ int main(int argc, char** argv) {
           argc, argv,
           {"--config", "--keyframes", "--carmen", "--corrected", "--out", "--out_dir", "--rows",
            "--registration", "--prune", "--pcm", "--lookalikes"},
-          {}, &args, &err))
+          {"--timing"}, &args, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -248,10 +301,14 @@ int main(int argc, char** argv) {
   const coral::Isometries &ref = set.ref, &odom = set.odom;
   for (const auto& s : scans) stamps.push_back(s.stamp);
 
-  // 2. One evaluation each.
+  // 2. One evaluation each (and with --timing the preset's loop verdict, timed).
+  const bool timing = args.flag("--timing");
+  online::IntrospectorConfig loop_cfg = node.online;
+  loop_cfg.verdict = coral::loopClosureVerdict(node.online.verdict);
   std::vector<Judged> judged;
   for (const eval::LoopCandidate& c : set.lookalikes) {
     Judged j = judgeCandidate(c, scans[c.a].scan, scans[c.b].scan, judge_cfg, verdict);
+    if (timing) timeVerdict(scans[c.a].scan, scans[c.b].scan, loop_cfg, &j);
     j.in_graph = true;
     j.node_a = c.a;
     j.node_b = c.b;
@@ -263,6 +320,7 @@ int main(int argc, char** argv) {
   for (const eval::LoopCandidate& c : set.revisits) {
     const std::vector<eval::TrainingScan>& rs = set.rel_scans;
     Judged j = judgeCandidate(c, rs[c.a].scan, rs[c.b].scan, judge_cfg, verdict);
+    if (timing) timeVerdict(rs[c.a].scan, rs[c.b].scan, loop_cfg, &j);
     // An edge between the nodes its scans hang off.
     j.in_graph = nodes.edge(rs[c.a].stamp, rs[c.b].stamp, c.T_a_b, kAttachLines, &j.node_a,
                             &j.node_b, &j.T_edge) &&
@@ -438,5 +496,6 @@ int main(int argc, char** argv) {
         pcm.probability);
     table_of(pcm_checked);
   }
+  if (timing) printTiming(table, verdict);
   return 0;
 }
