@@ -70,7 +70,12 @@ void exercise(const ros_adapters::NodeConfig& c, const std::vector<online::ScanI
 Tally sweep(const std::string& preset, const std::string& base,
             const std::vector<std::string>& groups, const MakeScans& make_scans) {
   Tally t;
-  const std::vector<std::string> values = {"0", "-1", "1.0e12", "-1.0e12", ".nan", ".inf"};
+  // The sanitizer build (CORAL_VERDICT_PAIR_STRIDE > 1, ~22x slower: 348 s for the lidar
+  // sweeps alone): 0 and NaN only.
+  const std::vector<std::string> values =
+      coral_test::pairStride() > 1
+          ? std::vector<std::string>{"0", ".nan"}
+          : std::vector<std::string>{"0", "-1", "1.0e12", "-1.0e12", ".nan", ".inf"};
   for (const std::string& name : ros_adapters::nodeParameterNames()) {
     if (!groups.empty() && std::none_of(groups.begin(), groups.end(), [&](const std::string& g) {
           return name.rfind(g, 0) == 0;
@@ -165,11 +170,13 @@ MakeScans oxfordScans(const std::string& dir, bool plain) {
   };
 }
 
-// Both outcomes occur (a sweep that loaded nothing, or refused nothing, tested nothing).
-// Most loaded configs make their scans (a front end that refused every one tested nothing).
+// Both outcomes occur (a sweep that loaded nothing, or refused nothing, tested nothing; a
+// third of the bounds with the sanitizer build's two values of six). Most loaded configs make
+// their scans (a front end that refused every one tested nothing).
 void expectBoth(const Tally& t, int min_refused, int min_judged) {
-  EXPECT_GE(t.refused, min_refused);
-  EXPECT_GE(t.judged, min_judged);
+  const int share = coral_test::pairStride() > 1 ? 3 : 1;
+  EXPECT_GE(t.refused, min_refused / share);
+  EXPECT_GE(t.judged, std::max(1, min_judged / share));
   EXPECT_GE(t.exercised * 10, t.judged * 8);
 }
 
