@@ -58,8 +58,9 @@ TEST(ErrorSweepTool, PresetAlignedIsWhatTheSummaryCounts) {
   EXPECT_GT(differ, 0);
 }
 
-// --turn_axes: names other than yaw, roll, pitch, tilted, and roll / pitch / tilted with a 2D
-// preset (whose scans have no roll) are refused with a message and exit 2, not swept as yaw.
+// --turn_axes: names other than yaw, roll, pitch, tilted (an empty field too), and roll / pitch /
+// tilted with a 2D preset (whose scans have no roll) are refused with a message and exit 2, not
+// swept as yaw.
 TEST(ErrorSweepTool, TurnAxesRefusedWhenUnknownOrIn2D) {
   const std::string config = coral_test::sourceDir() + "/config/";
   const std::string data = " --data carmen:" + coral_test::dataDir() + "/radish_aces/aces.clf.bz2";
@@ -68,6 +69,11 @@ TEST(ErrorSweepTool, TurnAxesRefusedWhenUnknownOrIn2D) {
                           "--config " + config + "lidar_3d.yaml" + data + " --turn_axes roll,spin");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("'spin' is none of yaw, roll, pitch, tilted"), std::string::npos) << r.err;
+  // An empty field is refused too, not dropped ("roll," is not "roll").
+  r = coral_test::runTool(CORAL_ERROR_SWEEP_EXE,
+                          "--config " + config + "lidar_3d.yaml" + data + " --turn_axes roll,");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("'' is none of yaw, roll, pitch, tilted"), std::string::npos) << r.err;
   r = coral_test::runTool(CORAL_ERROR_SWEEP_EXE, "--config " + config + "lidar_2d.yaml" + data +
                                                      " --turn_axes yaw,tilted");
   EXPECT_EQ(r.status, 2);

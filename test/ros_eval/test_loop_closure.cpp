@@ -152,14 +152,9 @@ TEST(LoopClosure, Lidar3dTenTimesTheLookAlikesRegisteredByNdt) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_3d", &node);
-  eval::LoopCandidateConfig lc = eval::evaluationCandidates(3, node.online.verdict.tolerance);
+  eval::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance);
   lc.registration = "ndt";
-  lc.max_lookalike_pairs = 400;
-  const eval::LoopCandidateConfig small = candidateConfig(3, node.online.verdict.tolerance);
-  if (coral_test::pairStride() > 1) {
-    lc.max_radius_candidates = small.max_radius_candidates;
-    lc.max_lookalike_pairs /= static_cast<int>(coral_test::pairStride());
-  }
+  lc.max_lookalike_pairs = 400 / static_cast<int>(coral_test::pairStride());
   LivoxLoop l;
   std::string err;
   ASSERT_TRUE(loadLivoxLoop(coral_data, lc, &l, &err)) << err;

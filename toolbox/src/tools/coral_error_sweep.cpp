@@ -21,10 +21,10 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "coral_introspection/config/text_fields.hpp"
 #include "coral_introspection/eval/error_sweep.hpp"
 #include "coral_introspection/eval/pair_datasets.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
@@ -78,18 +78,17 @@ int main(int argc, char** argv) {
   for (double d : yaw_degrees)
     if (!(d > 0.0 && d <= 180.0))
       return fail("--yaw_deg: " + std::to_string(d) + " is not an angle in (0, 180] deg");
-  // --turn_axes: the axes of those fixed angles (default yaw).
+  // --turn_axes: the axes of those fixed angles (default yaw). Empty fields ("roll,", "")
+  // are refused like unknown names (config::splitFields, as numberListOption).
   std::vector<eval::TurnAxis> turn_axes = eval::sweepTurnAxes();
   if (args.has("--turn_axes")) {
     turn_axes.clear();
-    std::stringstream list(args.get("--turn_axes"));
-    for (std::string name; std::getline(list, name, ',');) {
+    for (const std::string& name : config::splitFields(args.get("--turn_axes"), ',')) {
       eval::TurnAxis a;
       if (!eval::parseTurnAxis(name, &a))
         return fail("--turn_axes: '" + name + "' is none of yaw, roll, pitch, tilted");
       turn_axes.push_back(a);
     }
-    if (turn_axes.empty()) return fail("--turn_axes: no axis given");
   }
   std::string rows;
   if (!eval::choiceOption(args, "--rows", {"all", "even", "odd"}, &rows, &err)) return fail(err);
