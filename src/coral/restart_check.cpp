@@ -45,6 +45,18 @@ const SurfaceTarget& targetOf(const CoralPair& pair, const RegistrationConfig& c
   return **own;
 }
 
+// The size [tolerances] of a pose's difference from `from` (toleranceSize): how far a
+// registration has moved the candidate's pose.
+struct TolerancesFrom {
+  TolerancesFrom(const Eigen::Isometry3d& from, const ToleranceConfig& tolerance)
+      : inverse(from.inverse()), tolerance(tolerance) {}
+  double operator()(const Eigen::Isometry3d& T) const {
+    return toleranceSize(inverse * T, tolerance);
+  }
+  Eigen::Isometry3d inverse;
+  const ToleranceConfig& tolerance;
+};
+
 // A pose with Q below best_q and at least min_overlap_ratio of the candidate's overlap.
 bool lowerWithOverlap(double quality, double overlap, double best_q, const JudgedPose& candidate,
                       const RestartConfig& cfg) {
@@ -64,10 +76,7 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
   const SurfaceTarget& target = targetOf(pair, cfg.registration, shared, &own);
   // "Clearly lower": by a share of |Q| (Q may be slightly negative on clean walls).
   double best_q = q_candidate - (1.0 - cfg.max_q_ratio) * std::abs(q_candidate);
-  const Eigen::Isometry3d T_b_a = T_a_b.inverse();
-  auto tolerancesAway = [&](const Eigen::Isometry3d& T) {  // from the candidate's pose
-    return toleranceSize(T_b_a * T, tolerance);
-  };
+  const TolerancesFrom tolerancesAway(T_a_b, tolerance);  // from the candidate's pose
   struct Refined {  // a start registered with all points: where it started, usable
     Eigen::Isometry3d coarse_end;
     bool usable;
@@ -75,7 +84,7 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
   std::vector<Refined> refined;
   auto earlier = [&](const Eigen::Isometry3d& T) -> const Refined* {  // within coarse_same_within
     for (const Refined& e : refined)
-      if (toleranceSize(e.coarse_end.inverse() * T, tolerance) < cfg.coarse_same_within) return &e;
+      if (TolerancesFrom(e.coarse_end, tolerance)(T) < cfg.coarse_same_within) return &e;
     return nullptr;
   };
   for (double radius : cfg.radii)
@@ -87,6 +96,7 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       ++out.starts;
       const Points& b = pair.points(1);
       Eigen::Isometry3d from = T_a_b * start;
+      std::function<bool(const Eigen::Isometry3d&)> heading_back;  // ends the full registration
       if (cfg.coarse_points > 0 && b.size() > cfg.coarse_points) {
         // Heading back: only for a start farther out than that (a nearer one starts there).
         const bool may_stop = radius > cfg.coarse_back_within;
@@ -111,8 +121,18 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
           continue;
         }
         from = c.T_a_b;
+        // The full registration from there is ended as the coarse one is once it comes back
+        // within coarse_back_within of the candidate's pose: it is then back at it (below), and
+        // the last iterations into a minimum cost most (a start that settled 2-3 tolerances away
+        // converged back in 33-38 iterations of all points, 0.04-0.05 s: doc/loop_closure.md
+        // "The cost of a rejection").
+        heading_back = [&](const Eigen::Isometry3d& T) {
+          return tolerancesAway(T) < cfg.coarse_back_within;
+        };
       }
-      const RegistrationResult r = target.align(b, from);
+      const RegistrationResult r =
+          target.align(b, from, SurfaceTarget::kMaxSourcePoints, 0.0, heading_back);
+      out.returned += r.stopped ? 1 : 0;
       refined.push_back({from, r.usable(cfg.registration)});
       if (!r.usable(cfg.registration)) continue;
       ++out.usable;
@@ -144,8 +164,7 @@ NearbyAlignment registeredNearby(const CoralPair& pair, const Eigen::Isometry3d&
   std::unique_ptr<SurfaceTarget> own;
   const SurfaceTarget& target = targetOf(pair, cfg, shared, &own);
   const Points& b = pair.points(1);
-  const Eigen::Isometry3d T_b_a = T_a_b.inverse();
-  auto size = [&](const Eigen::Isometry3d& T) { return toleranceSize(T_b_a * T, tolerance); };
+  const TolerancesFrom size(T_a_b, tolerance);
   // The screen, for dense scans: a candidate far from any alignment (a look-alike place, a
   // pose metres off) runs away from its pose, and 50 iterations of the full registration of a
   // 64-beam scan cost 0.1 s (doc/loop_closure.md "The cost of a rejection"). A registration

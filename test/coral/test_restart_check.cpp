@@ -195,6 +195,16 @@ TEST(RestartCheck, CoarseToFineIn3dFindsWhatOneFullRegistrationFinds) {
   const coral::RestartResult stands = check(p.T_a_b, coarse);
   EXPECT_FALSE(stands.better_elsewhere);
   EXPECT_GE(stands.usable, 8);
+  // Coarse registrations that settle early (here: after one update, by a 1 m step bound) leave
+  // the starts still farther than min_distance to the full registration, which is ended once
+  // it comes back within coarse_back_within (4 of the 16 starts here): the true pose stands.
+  coral::RestartConfig settles = coarse;
+  settles.coarse_min_step = 1.0;
+  settles.coarse_same_within = 0.0;
+  const coral::RestartResult back = check(p.T_a_b, settles);
+  EXPECT_FALSE(back.better_elsewhere);
+  EXPECT_GT(back.returned, 0);
+  EXPECT_EQ(back.usable, 16);
 }
 
 // Through the loop verdict (judgeAlignment, method gated with the loop gate's restarts).

@@ -39,7 +39,8 @@ struct RestartConfig {
   // or the pose comes within coarse_back_within tolerances of the candidate's (heading back
   // there; for starts farther out than that). One that ends within min_distance of the
   // candidate's pose ends the start; any other is registered again with all points
-  // (SurfaceTarget::kMaxSourcePoints) from where it ended. The nearest-point search is most
+  // (SurfaceTarget::kMaxSourcePoints) from where it ended, ended the same way once it comes
+  // within coarse_back_within tolerances of the candidate's pose. The nearest-point search is most
   // of a registration's cost, and the starts of a right candidate come back to it (all 16 on
   // the 64-beam timing pair, doc/loop_closure.md). Only when b has more points than
   // coarse_points (2D scans of up to 361 beams are registered once, as before); 0 = off.
@@ -66,6 +67,8 @@ struct RestartResult {
   double q_candidate = 0.0;    // the candidate's Q [nats]
   int starts = 0, usable = 0;  // registrations run and usable (RegistrationResult::usable)
   int merged = 0;  // starts counted with an earlier one (RestartConfig::coarse_same_within)
+  // Full registrations ended once back within coarse_back_within of the candidate's pose.
+  int returned = 0;
 };
 
 // The loop verdict at one pose, as the check needs it.
