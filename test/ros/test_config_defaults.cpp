@@ -134,6 +134,13 @@ XmlRpcValue loadYaml(const std::vector<std::string>& files) {
 }
 
 // Every field of NodeConfig, one "name = value" line each (readable diffs).
+std::string numbers(const std::vector<double>& v) {
+  std::ostringstream s;
+  s.precision(17);
+  for (double x : v) s << x << ' ';
+  return s.str();
+}
+
 std::string describe(const NodeConfig& c) {
   std::ostringstream s;
   s.precision(17);
@@ -202,6 +209,34 @@ std::string describe(const NodeConfig& c) {
     << "\nfree_space.margin = " << c.online.verdict.free_space.margin
     << "\nfree_space.min_tested = " << c.online.verdict.free_space.min_tested
     << "\nfree_space.min_extent = " << c.online.verdict.free_space.min_extent
+    << "\nrestart.radii = " << numbers(c.online.verdict.restart.radii)
+    << "\nrestart.directions = " << c.online.verdict.restart.directions
+    << "\nrestart.min_distance = " << c.online.verdict.restart.min_distance
+    << "\nrestart.max_q_ratio = " << c.online.verdict.restart.max_q_ratio
+    << "\nrestart.min_overlap_ratio = " << c.online.verdict.restart.min_overlap_ratio
+    << "\nrestart.coarse_points = " << c.online.verdict.restart.coarse_points
+    << "\nrestart.coarse_min_step = " << c.online.verdict.restart.coarse_min_step
+    << "\nrestart.coarse_back_within = " << c.online.verdict.restart.coarse_back_within
+    << "\nrestart.coarse_same_within = " << c.online.verdict.restart.coarse_same_within
+    << "\nregistration.max_correspondence = "
+    << c.online.verdict.restart.registration.max_correspondence
+    << "\nregistration.max_iterations = " << c.online.verdict.restart.registration.max_iterations
+    << "\nregistration.min_step = " << c.online.verdict.restart.registration.min_step
+    << "\nregistration.min_correspondences = "
+    << c.online.verdict.restart.registration.min_correspondences
+    << "\nregistration.normal_radius = " << c.online.verdict.restart.registration.normal_radius
+    << "\nregistration.robust_scale = " << c.online.verdict.restart.registration.robust_scale
+    << "\ncalibration.enabled = " << c.online.calibration.enabled
+    << "\ncalibration.fraction_of_pairs = " << c.online.calibration.fraction_of_pairs
+    << "\ncalibration.max_samples = " << c.online.calibration.max_samples
+    << "\ncalibration.min_samples_before_use = " << c.online.calibration.min_samples_before_use
+    << "\ncalibration.min_auc = " << c.online.calibration.min_auc
+    << "\ncalibration.holdout_fraction = " << c.online.calibration.holdout_fraction
+    << "\ncalibration.prior_weight = " << c.online.calibration.prior_weight
+    << "\ncalibration.accept_score = " << c.online.calibration.accept_score
+    << "\ncalibration.output_file = " << c.online.calibration.output_file
+    << "\ntime_budget = " << c.time_budget << "\ntesting.pair_delay = " << c.testing_pair_delay
+    << "\nheap_release_interval = " << c.heap_release_interval
     << "\ntolerance.translation = " << c.online.verdict.tolerance.translation
     << "\ntolerance.rotation_deg = " << c.online.verdict.tolerance.rotation_deg
     << "\npolar_format = " << static_cast<int>(c.polar_format)
