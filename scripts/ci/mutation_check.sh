@@ -43,7 +43,7 @@ MUTATIONS=(
   "restart check takes a higher Q for a better one@src/coral/restart_check.cpp@return quality < best_q &&@return quality > best_q &&@test_restart_check"
   "registration from the pose never screened@src/coral/restart_check.cpp@b\.size\(\) > restart\.coarse_points && max_size < 1\.0;@b.size() > restart.coarse_points && max_size < 0.0;@test_restart_check"
   "free_space/ not validated at load@src/coral/verdict.cpp@\{\"free_space\", free_space\.validate\(\)\},@{\"free_space\", \"\"},@test_introspector"
-  "restart check's full registrations never end heading back@src/coral/restart_check.cpp@return tolerancesAway\(T\) < cfg\.coarse_back_within;@return false;@test_restart_check"
+  "restart check's full registrations never end heading back@src/coral/restart_check.cpp@dense \? back_at_candidate : no_stop\);@no_stop);@test_restart_check"
   "restart starts never counted with an earlier one@src/coral/restart_check.cpp@< cfg\.coarse_same_within\) return &e;@< 0.0) return &e;@test_restart_check"
   "gate max_quality compared the wrong way@src/coral/verdict.cpp@terms\.quality > gate\.max_quality@terms.quality < gate.max_quality@test_relative_check"
   "registration from the pose accepted past its bound@src/coral/restart_check.cpp@out\.size <= max_size@true@test_restart_check"

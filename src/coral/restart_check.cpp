@@ -87,6 +87,14 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       if (TolerancesFrom(e.coarse_end, tolerance)(T) < cfg.coarse_same_within) return &e;
     return nullptr;
   };
+  // Heading back: within coarse_back_within of the candidate's pose. Ends the coarse phase and
+  // the full registration after it: the start is then back at the candidate (below), and the
+  // last iterations into a minimum cost most (a start that settled 2-3 tolerances away
+  // converged back in 33-38 iterations of all points, 0.04-0.05 s: doc/loop_closure.md "The
+  // cost of a rejection").
+  const std::function<bool(const Eigen::Isometry3d&)> back_at_candidate =
+      [&](const Eigen::Isometry3d& T) { return tolerancesAway(T) < cfg.coarse_back_within; };
+  const std::function<bool(const Eigen::Isometry3d&)> no_stop;
   for (double radius : cfg.radii)
     for (int k = 0; k < cfg.directions; ++k) {
       const double angle = 2.0 * M_PI * k / cfg.directions;
@@ -96,14 +104,13 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       ++out.starts;
       const Points& b = pair.points(1);
       Eigen::Isometry3d from = T_a_b * start;
-      std::function<bool(const Eigen::Isometry3d&)> heading_back;  // ends the full registration
-      if (cfg.coarse_points > 0 && b.size() > cfg.coarse_points) {
+      const bool dense = cfg.coarse_points > 0 && b.size() > cfg.coarse_points;
+      if (dense) {
         // Heading back: only for a start farther out than that (a nearer one starts there).
         const bool may_stop = radius > cfg.coarse_back_within;
         const RegistrationResult c = target.align(
             b, from, cfg.coarse_points, cfg.coarse_min_step, [&](const Eigen::Isometry3d& T) {
-              return (may_stop && tolerancesAway(T) < cfg.coarse_back_within) ||
-                     earlier(T) != nullptr;
+              return (may_stop && back_at_candidate(T)) || earlier(T) != nullptr;
             });
         if (!c.usable(cfg.registration)) continue;
         // Stopped ones too: coarse_back_within <= min_distance (validate()).
@@ -121,17 +128,9 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
           continue;
         }
         from = c.T_a_b;
-        // The full registration from there is ended as the coarse one is once it comes back
-        // within coarse_back_within of the candidate's pose: it is then back at it (below), and
-        // the last iterations into a minimum cost most (a start that settled 2-3 tolerances away
-        // converged back in 33-38 iterations of all points, 0.04-0.05 s: doc/loop_closure.md
-        // "The cost of a rejection").
-        heading_back = [&](const Eigen::Isometry3d& T) {
-          return tolerancesAway(T) < cfg.coarse_back_within;
-        };
       }
-      const RegistrationResult r =
-          target.align(b, from, SurfaceTarget::kMaxSourcePoints, 0.0, heading_back);
+      const RegistrationResult r = target.align(b, from, SurfaceTarget::kMaxSourcePoints, 0.0,
+                                                dense ? back_at_candidate : no_stop);
       out.returned += r.stopped ? 1 : 0;
       refined.push_back({from, r.usable(cfg.registration)});
       if (!r.usable(cfg.registration)) continue;

@@ -133,7 +133,7 @@ XmlRpcValue loadYaml(const std::vector<std::string>& files) {
   return v;
 }
 
-// Every field of NodeConfig, one "name = value" line each (readable diffs).
+// A list of numbers on one line, for describe().
 std::string numbers(const std::vector<double>& v) {
   std::ostringstream s;
   s.precision(17);
@@ -141,6 +141,7 @@ std::string numbers(const std::vector<double>& v) {
   return s.str();
 }
 
+// Every field of NodeConfig, one "name = value" line each (readable diffs).
 std::string describe(const NodeConfig& c) {
   std::ostringstream s;
   s.precision(17);

@@ -78,9 +78,12 @@ void expectTally(const LoopTally& t, const Expected& e) {
   EXPECT_GE(t.false_accepted_relative, e.relative_factor * std::max(1, t.false_accepted));
 }
 
-// The evaluation's candidate settings; under the sanitizers' stride, that many times fewer.
-eval::LoopCandidateConfig candidateConfig(int dimension, const coral::ToleranceConfig& tol) {
+// The evaluation's candidate settings, with `lookalikes` look-alike pairs when > 0
+// (coral_loop_eval --lookalikes); under the sanitizers' stride, that many times fewer.
+eval::LoopCandidateConfig candidateConfig(int dimension, const coral::ToleranceConfig& tol,
+                                          int lookalikes = 0) {
   eval::LoopCandidateConfig c = eval::evaluationCandidates(dimension, tol);
+  if (lookalikes > 0) c.max_lookalike_pairs = lookalikes;
   const int s = static_cast<int>(coral_test::pairStride());
   c.max_radius_candidates = std::max(2, c.max_radius_candidates / s);
   c.max_lookalike_pairs = std::max(1, c.max_lookalike_pairs / s);
@@ -152,9 +155,8 @@ TEST(LoopClosure, Lidar3dTenTimesTheLookAlikesRegisteredByNdt) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_3d", &node);
-  eval::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance);
+  eval::LoopCandidateConfig lc = candidateConfig(3, node.online.verdict.tolerance, 400);
   lc.registration = "ndt";
-  lc.max_lookalike_pairs = 400 / static_cast<int>(coral_test::pairStride());
   LivoxLoop l;
   std::string err;
   ASSERT_TRUE(loadLivoxLoop(coral_data, lc, &l, &err)) << err;
@@ -195,10 +197,8 @@ void checkCarmenLoops(const std::string& log, const std::string& registration,
                       JudgedLoops* judged = nullptr, int lookalikes = 0) {
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_2d", &node);
-  eval::LoopCandidateConfig cfg = candidateConfig(2, node.online.verdict.tolerance);
+  eval::LoopCandidateConfig cfg = candidateConfig(2, node.online.verdict.tolerance, lookalikes);
   cfg.registration = registration;
-  if (lookalikes > 0)
-    cfg.max_lookalike_pairs = std::max(1, lookalikes / static_cast<int>(coral_test::pairStride()));
   eval::CarmenLoopSet set;
   std::string err;
   ASSERT_TRUE(loadCarmenLoops(log, cfg, &set, &err)) << err;
