@@ -50,6 +50,8 @@ std::string CoralConfig::validate() const {
       .require(max_abs_coordinate > 0.0 && max_abs_coordinate <= kMaxAbsCoordinate,
                "max_abs_coordinate", "in (0, 1e38] m (float range of scored positions)",
                max_abs_coordinate)
+      .require(max_range >= 0.0 && max_range <= kMaxAbsCoordinate, "max_range",
+               "in [0, 1e38] m (0 = off)", max_range)
       .require(max_points >= 1, "max_points", ">= 1", max_points)
       .require(merge_distance >= 0.0 && merge_distance < 1.0, "merge_distance", "in [0, 1) m",
                merge_distance)
@@ -287,7 +289,7 @@ void finalizeCoral(const CoralConfig& cfg, std::vector<PointEntropy> per_point, 
   if (cfg.per_point) res->per_point = std::move(per_point);
 }
 
-bool detail::prepareClouds(const Points& a, const Points& b, const CoralConfig& cfg,
+bool detail::prepareClouds(const Scan& a, const Scan& b, const CoralConfig& cfg,
                            PreparedClouds* out, CoralResult* res) {
   // Input hygiene, then the voxel filter: every step counts what it removed.
   Points* storage = out->storage;
@@ -295,15 +297,17 @@ bool detail::prepareClouds(const Points& a, const Points& b, const CoralConfig& 
   Points* merged = out->merged;
   Points* voxels = out->voxels;
   const Points** clouds = out->cloud;
-  clouds[0] = &a;
-  clouds[1] = &b;
+  const Scan* scans[2] = {&a, &b};
   std::size_t usable[2] = {0, 0};
   for (int s = 0; s < 2; ++s) {
-    std::size_t non_finite = 0, out_of_range = 0;
-    clouds[s] =
-        &usablePoints(*clouds[s], cfg.max_abs_coordinate, &storage[s], &non_finite, &out_of_range);
+    std::size_t non_finite = 0, out_of_range = 0, beyond = 0;
+    clouds[s] = &usablePoints(scans[s]->points, cfg.max_abs_coordinate, &storage[s], &non_finite,
+                              &out_of_range);
+    clouds[s] = &pointsWithinRange(*clouds[s], scans[s]->origin, cfg.max_range, cfg.dimension,
+                                   &out->ranged[s], &beyond);
     res->num_non_finite += non_finite;
     res->num_out_of_range += out_of_range;
+    res->num_beyond_max_range += beyond;
     usable[s] = clouds[s]->size();
   }
   res->num_points_a = usable[0];
@@ -350,7 +354,7 @@ CoralResult computeCoral(const Scan& a, const Scan& b, const CoralConfig& cfg) {
   const auto t0 = std::chrono::steady_clock::now();
   CoralResult res;
   detail::PreparedClouds prepared;
-  if (!detail::prepareClouds(a.points, b.points, cfg, &prepared, &res)) {
+  if (!detail::prepareClouds(a, b, cfg, &prepared, &res)) {
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return res;
   }

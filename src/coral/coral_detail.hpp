@@ -34,16 +34,16 @@ inline void setPoint(PointEntropy& pe, const Vec3& p, bool in_a, double radius) 
 // or at one of the buffers: not copyable.
 struct PreparedClouds {
   const Points* cloud[2] = {nullptr, nullptr};
-  Points storage[2], thinned[2], merged[2], voxels[2];
+  Points storage[2], ranged[2], thinned[2], merged[2], voxels[2];
   PreparedClouds() = default;
   PreparedClouds(const PreparedClouds&) = delete;
   PreparedClouds& operator=(const PreparedClouds&) = delete;
 };
 
 // Fills *out and the input counts of *res (num_points_*, num_used_*, num_non_finite,
-// num_out_of_range, num_thinned, num_merged). False, with res->reason, when a scan is
-// refused (refuse_over_max_points).
-bool prepareClouds(const Points& a, const Points& b, const CoralConfig& cfg, PreparedClouds* out,
+// num_out_of_range, num_beyond_max_range, num_thinned, num_merged); max_range is measured from
+// each scan's origin. False, with res->reason, when a scan is refused (refuse_over_max_points).
+bool prepareClouds(const Scan& a, const Scan& b, const CoralConfig& cfg, PreparedClouds* out,
                    CoralResult* res);
 
 // Stratified subset of at most cfg.max_queries points of each of the grid's two clouds

@@ -153,7 +153,7 @@ CoralPair::CoralPair(const Scan& a, const Scan& b, const CoralConfig& cfg, int p
   im.origin[0] = a.origin;
   im.origin[1] = b.origin;
   detail::PreparedClouds prepared;
-  if (!detail::prepareClouds(a.points, b.points, cfg, &prepared, &im.base)) {
+  if (!detail::prepareClouds(a, b, cfg, &prepared, &im.base)) {
     im.refused = true;
     return;
   }

@@ -91,10 +91,12 @@ CoralResult computeCoralUncertain(const Scan& a_in, const Scan& b_in,
   const auto t0 = std::chrono::steady_clock::now();
   Scan a = a_in, b = b_in;
   CoralResult res;
-  // The input hygiene of computeCoral: NaN/Inf and points beyond max_abs_coordinate are
-  // dropped and counted (covariances follow their points).
-  removeUnusable(a, cfg.base.max_abs_coordinate, &res.num_non_finite, &res.num_out_of_range);
-  removeUnusable(b, cfg.base.max_abs_coordinate, &res.num_non_finite, &res.num_out_of_range);
+  // The input hygiene of computeCoral: NaN/Inf, points beyond max_abs_coordinate and beyond
+  // max_range of their origin are dropped and counted (covariances follow their points).
+  for (Scan* s : {&a, &b}) {
+    removeUnusable(*s, cfg.base.max_abs_coordinate, &res.num_non_finite, &res.num_out_of_range);
+    removeBeyondRange(*s, cfg.base.max_range, cfg.base.dimension, &res.num_beyond_max_range);
+  }
   res.num_points_a = a.points.size();
   res.num_points_b = b.points.size();
   const double cell = std::max(cfg.base.r_max, cfg.base.maxRadius());

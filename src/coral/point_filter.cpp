@@ -22,32 +22,31 @@ uint64_t hashCell(const Cell& c) {
   return h ^ (h >> 29);
 }
 
-}  // namespace
-
-const Points& usablePoints(const Points& in, double max_abs, Points* storage,
-                           std::size_t* non_finite, std::size_t* out_of_range) {
-  *non_finite = *out_of_range = 0;
-  // |v| <= max_abs is false for NaN, so one test per coordinate finds both kinds.
-  const auto usable = [max_abs](const Vec3& p) { return isUsablePoint(p, max_abs); };
-  if (std::all_of(in.begin(), in.end(), usable)) return in;
+// The input itself when keep(p) holds for every point, otherwise the kept points in
+// *storage (order kept); drop(p) is called for each point left out.
+template <class Keep, class Drop>
+const Points& keptPoints(const Points& in, Keep keep, Drop drop, Points* storage) {
+  if (std::all_of(in.begin(), in.end(), keep)) return in;
   storage->clear();
   storage->reserve(in.size());
   for (const Vec3& p : in) {
-    if (usable(p))
+    if (keep(p))
       storage->push_back(p);
     else
-      ++*(p.allFinite() ? out_of_range : non_finite);
+      drop(p);
   }
   return *storage;
 }
 
-void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite,
-                    std::size_t* out_of_range) {
+// Removes the points for which keep(p) is false, and their covariances when there is one per
+// point, order kept; drop(p) is called for each.
+template <class Keep, class Drop>
+void keepInScan(Scan& scan, Keep keep, Drop drop) {
   const bool with_cov = scan.covariances.size() == scan.points.size();
   std::size_t kept = 0;
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
-    if (!isUsablePoint(scan.points[i], max_abs)) {
-      ++*(scan.points[i].allFinite() ? out_of_range : non_finite);
+    if (!keep(scan.points[i])) {
+      drop(scan.points[i]);
       continue;
     }
     scan.points[kept] = scan.points[i];
@@ -56,6 +55,39 @@ void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite,
   }
   scan.points.resize(kept);
   if (with_cov) scan.covariances.resize(kept);
+}
+
+}  // namespace
+
+const Points& usablePoints(const Points& in, double max_abs, Points* storage,
+                           std::size_t* non_finite, std::size_t* out_of_range) {
+  *non_finite = *out_of_range = 0;
+  // |v| <= max_abs is false for NaN, so one test per coordinate finds both kinds.
+  return keptPoints(
+      in, [max_abs](const Vec3& p) { return isUsablePoint(p, max_abs); },
+      [&](const Vec3& p) { ++*(p.allFinite() ? out_of_range : non_finite); }, storage);
+}
+
+void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite,
+                    std::size_t* out_of_range) {
+  keepInScan(
+      scan, [max_abs](const Vec3& p) { return isUsablePoint(p, max_abs); },
+      [&](const Vec3& p) { ++*(p.allFinite() ? out_of_range : non_finite); });
+}
+
+const Points& pointsWithinRange(const Points& in, const Vec3& origin, double max_range, int dim,
+                                Points* storage, std::size_t* dropped) {
+  *dropped = 0;
+  return keptPoints(
+      in, [&](const Vec3& p) { return withinRange(p, origin, max_range, dim); },
+      [dropped](const Vec3&) { ++*dropped; }, storage);
+}
+
+void removeBeyondRange(Scan& scan, double max_range, int dim, std::size_t* dropped) {
+  const Vec3 origin = scan.origin;
+  keepInScan(
+      scan, [&](const Vec3& p) { return withinRange(p, origin, max_range, dim); },
+      [dropped](const Vec3&) { ++*dropped; });
 }
 
 Points strideSubsample(const Points& in, std::size_t max_points) {

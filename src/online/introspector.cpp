@@ -25,6 +25,8 @@ std::string noVerdictReason(const coral::CoralResult& r, const coral::CoralConfi
   if (r.num_non_finite + r.num_out_of_range > 0)
     s << "; " << r.num_non_finite << " non-finite and " << r.num_out_of_range
       << " out-of-range points dropped";
+  if (r.num_beyond_max_range > 0)
+    s << "; " << r.num_beyond_max_range << " points beyond coral/max_range dropped";
   return s.str();
 }
 }  // namespace

@@ -178,6 +178,50 @@ TEST(CoralDegenerate, FarAndNonFinitePointsAreDroppedAndCounted) {
   EXPECT_DOUBLE_EQ(rf.quality, ref.quality);
 }
 
+// No-return readings written at a scanner's maximum range (the Intel log's 81.83 m): with
+// max_range they are dropped before anything scores them, measured from each scan's own origin
+// (b's sensor is 0.85 m from a's), so the pair is scored exactly as without them.
+TEST(CoralDegenerate, NoReturnReadingsBeyondMaxRangeAreDroppedAndCounted) {
+  const Pair p = yard(0.0);
+  CoralConfig cfg = lidarConfig();
+  Scan a, b;
+  a.points = p.a_sensor;
+  b.points = p.b_sensor;
+  Scan a_sat = a, b_sat = b;
+  for (int k = 0; k < 36; ++k) {  // a ring of no-returns at 80 m around each sensor
+    const double angle = k * M_PI / 18.0;
+    a_sat.points.emplace_back(80.0 * std::cos(angle), 80.0 * std::sin(angle), 0.0);
+    b_sat.points.emplace_back(80.0 * std::cos(angle), 80.0 * std::sin(angle), 0.0);
+  }
+  const Scan b_sat_sensor = b_sat;
+  a = transformScan(a, p.T_w_a);
+  b = transformScan(b, p.T_w_b_est);
+  a_sat = transformScan(a_sat, p.T_w_a);
+  b_sat = transformScan(b_sat, p.T_w_b_est);
+  const CoralResult ref = computeCoral(a, b, cfg);
+  ASSERT_TRUE(ref.valid) << ref.reason;
+  const CoralResult kept = computeCoral(a_sat, b_sat, cfg);  // max_range 0: scored as returns
+  EXPECT_EQ(kept.num_beyond_max_range, 0u);
+  EXPECT_EQ(kept.num_points_b, b.points.size() + 36);
+  // 79.5 m from each sensor, so beyond 79.5 m of the world origin for some of b's ring: only a
+  // range measured from b's own origin keeps exactly a's and b's real points.
+  cfg.max_range = 79.5;
+  const CoralResult dropped = computeCoral(a_sat, b_sat, cfg);
+  EXPECT_EQ(dropped.num_beyond_max_range, 72u);
+  EXPECT_EQ(dropped.num_points_a, a.points.size());
+  EXPECT_EQ(dropped.num_points_b, b.points.size());
+  EXPECT_DOUBLE_EQ(dropped.quality, ref.quality);
+  EXPECT_EQ(dropped.num_valid, ref.num_valid);
+  // CoralPair (b in its sensor frame): the same hygiene, and the points the free-space term
+  // casts rays from.
+  const CoralPair pair(a_sat, b_sat_sensor, cfg);
+  EXPECT_EQ(pair.points(0).size(), a.points.size());
+  EXPECT_EQ(pair.points(1).size(), b.points.size());
+  const CoralResult at_pose = pair.evaluate(p.T_w_b_est);
+  EXPECT_EQ(at_pose.num_beyond_max_range, 72u);
+  EXPECT_NEAR(at_pose.quality, ref.quality, 1e-6);
+}
+
 TEST(CoralDegenerate, MaxPointsThinsOrRefuses) {
   const Pair p = yard(0.0);
   CoralConfig cfg = lidarConfig();
@@ -256,6 +300,36 @@ TEST(PointFilter, StrideSubsampleAndUsablePoints) {
   EXPECT_EQ(oor, 1u);
 }
 
+TEST(PointFilter, RangeIsMeasuredFromTheOriginInTheScansDimension) {
+  const Vec3 origin(10.0, 0.0, 0.0);
+  EXPECT_TRUE(withinRange(Vec3(14.9, 0.0, 0.0), origin, 5.0, 3));
+  EXPECT_FALSE(withinRange(Vec3(15.1, 0.0, 0.0), origin, 5.0, 3));
+  EXPECT_FALSE(withinRange(Vec3(10.0, 0.0, 6.0), origin, 5.0, 3));
+  EXPECT_TRUE(withinRange(Vec3(10.0, 0.0, 6.0), origin, 5.0, 2));  // 2D: z is not a range
+  EXPECT_TRUE(withinRange(Vec3(1e6, 0.0, 0.0), origin, 0.0, 3));   // 0 = off
+  Points in = {Vec3(11, 0, 0), Vec3(20, 0, 0), Vec3(12, 0, 0)};
+  Points storage;
+  std::size_t dropped = 7;
+  const Points& kept = pointsWithinRange(in, origin, 5.0, 3, &storage, &dropped);
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[1].x(), 12.0);  // order kept
+  EXPECT_EQ(dropped, 1u);
+  EXPECT_EQ(&pointsWithinRange(in, origin, 50.0, 3, &storage, &dropped), &in);  // no copy
+  EXPECT_EQ(dropped, 0u);
+  // In a scan, each point's covariance goes with it.
+  Scan s;
+  s.origin = origin;
+  s.points = in;
+  for (int k = 0; k < 3; ++k) s.covariances.push_back(Eigen::Matrix3d::Identity() * (k + 1));
+  std::size_t removed = 1;  // added to
+  removeBeyondRange(s, 5.0, 3, &removed);
+  ASSERT_EQ(s.points.size(), 2u);
+  ASSERT_EQ(s.covariances.size(), 2u);
+  EXPECT_EQ(s.points[1].x(), 12.0);
+  EXPECT_EQ(s.covariances[1](0, 0), 3.0);
+  EXPECT_EQ(removed, 2u);
+}
+
 TEST(CoralDegenerate, ConfigValidation) {
   CoralConfig c;
   c.max_points = 0;
@@ -266,6 +340,11 @@ TEST(CoralDegenerate, ConfigValidation) {
   c = CoralConfig();
   c.max_abs_coordinate = 0.0;
   EXPECT_NE(c.validate().find("max_abs_coordinate"), std::string::npos);
+  c = CoralConfig();
+  c.max_range = -1.0;
+  EXPECT_NE(c.validate().find("max_range"), std::string::npos);
+  c.max_range = std::nan("");
+  EXPECT_NE(c.validate().find("max_range"), std::string::npos);
   c = CoralConfig();
   c.max_degenerate_fraction = 1.5;
   EXPECT_NE(c.validate().find("max_degenerate_fraction"), std::string::npos);

@@ -453,3 +453,39 @@ TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestart
   EXPECT_LT((better.inverse() * m.in_process.restart.T_a_b).translation().norm(), 1e-3);
   EXPECT_LT((m.relation->T_a_b.inverse() * better).translation().norm(), two_tol - 1e-3) << r.out;
 }
+
+// No-return readings written as points at the scanner's maximum range (ACES: 50.0 m), as a
+// converter that keeps every reading writes them: lidar_2d's coral/max_range (49.9 m) drops
+// them, counts them in the JSON line, and the verdict is the one of the scans without them.
+TEST(CoralCheckLoopClosure, NoReturnReadingsAtTheMaximumRangeAreDroppedAndCounted) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  AcesLoops aces;
+  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
+  ASSERT_FALSE(aces.set.revisits.empty());
+  const LoopCandidate& c = aces.set.revisits.front();
+  const CheckRun clean = checkLoop(aces.set, c, c.T_a_b);
+  ASSERT_EQ(clean.status, 0) << clean.err;
+  EXPECT_EQ(field(clean.out, "num_beyond_max_range"), "0") << clean.out;
+  // Both scans with a no-return reading in every beam direction of the SICK (-90..89 deg).
+  Points pa = aces.set.rel_scans[c.a].scan.points, pb = aces.set.rel_scans[c.b].scan.points;
+  for (int deg = -90; deg < 90; ++deg) {
+    const double angle = deg * M_PI / 180.0;
+    pa.emplace_back(50.0 * std::cos(angle), 50.0 * std::sin(angle), 0.0);
+    pb.emplace_back(50.0 * std::cos(angle), 50.0 * std::sin(angle), 0.0);
+  }
+  const std::string a = tempPath("cc_sat_a", ".pcd"), b = tempPath("cc_sat_b", ".pcd"),
+                    t = tempPath("cc_sat_t", ".txt");
+  writePcd(a, pa);
+  writePcd(b, pb);
+  writeMatrix(t, c.T_a_b);
+  const CheckRun r =
+      runCheck("--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml --loop_closure --a " +
+               a + " --b " + b + " --transform_file " + t);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(field(r.out, "num_beyond_max_range"), "360") << r.out;
+  for (const char* key : {"aligned", "probability", "quality", "overlap", "rejected_by",
+                          "free_space_conflict", "num_points_a", "num_points_b"})
+    EXPECT_EQ(field(r.out, key), field(clean.out, key)) << key << "\n"
+                                                        << r.out << "\n"
+                                                        << clean.out;
+}

@@ -13,6 +13,9 @@
 #include <unistd.h>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <set>
 #include <string>
 
 #include "support/source_dir.hpp"
@@ -110,9 +113,39 @@ inline std::size_t pairStride() {
   return static_cast<std::size_t>(v);
 }
 
-// A per-process path in gtest's temp dir, e.g. tempPath("oxford", ".bag").
+// The paths tempPath handed out, removed (files and directories) when the test binary exits:
+// the suite runs many times on one machine, and a run left ~30 files in /tmp. Only the
+// process that asked removes them, not a forked child that exits (a death test).
+class TempPaths {
+ public:
+  static TempPaths& instance() {
+    static TempPaths paths;
+    return paths;
+  }
+  void add(const std::string& path) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    paths_.insert(path);
+  }
+  ~TempPaths() {
+    if (getpid() != owner_) return;
+    for (const std::string& path : paths_) {
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  }
+
+ private:
+  TempPaths() : owner_(getpid()) {}
+  const pid_t owner_;
+  std::mutex mutex_;
+  std::set<std::string> paths_;
+};
+
+// A per-process path in gtest's temp dir, e.g. tempPath("oxford", ".bag"); removed at exit.
 inline std::string tempPath(const std::string& name, const std::string& ext) {
-  return ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid()) + ext;
+  const std::string path = ::testing::TempDir() + "/" + name + "_" + std::to_string(getpid()) + ext;
+  TempPaths::instance().add(path);
+  return path;
 }
 
 }  // namespace coral_test

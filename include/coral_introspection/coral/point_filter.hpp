@@ -27,6 +27,23 @@ const Points& usablePoints(const Points& in, double max_abs, Points* storage,
 // point) from the scan, order kept. Counts what was dropped.
 void removeUnusable(Scan& scan, double max_abs, std::size_t* non_finite, std::size_t* out_of_range);
 
+// A point within max_range of origin (in x-y for dim 2); every point when max_range <= 0.
+inline bool withinRange(const Vec3& p, const Vec3& origin, double max_range, int dim) {
+  if (max_range <= 0.0) return true;
+  const Vec3 d = p - origin;
+  return (dim == 2 ? d.head<2>().squaredNorm() : d.squaredNorm()) <= max_range * max_range;
+}
+
+// The input itself when every point is within max_range of origin (CoralConfig::max_range:
+// no-return readings written at the scanner's maximum range), otherwise those points in
+// *storage (order kept). Counts what was dropped.
+const Points& pointsWithinRange(const Points& in, const Vec3& origin, double max_range, int dim,
+                                Points* storage, std::size_t* dropped);
+
+// Removes the points beyond max_range of scan.origin (and their covariances, when there is one
+// per point), order kept. Adds the number dropped to *dropped.
+void removeBeyondRange(Scan& scan, double max_range, int dim, std::size_t* dropped);
+
 // Every (n / max_points)-th point (a deterministic stride, order kept) so that exactly
 // max_points remain; the input when it is not larger.
 Points strideSubsample(const Points& in, std::size_t max_points);
