@@ -110,6 +110,29 @@ TEST(CloudIo, PcdWithoutIntensityAndWithoutXyz) {
   std::remove(p.c_str());
 }
 
+// A planar scan written without its zeros (FIELDS x y): read with z = 0 and marked planar, so
+// that a 3D reader can refuse it; a file with z is not planar, nor is one read after it.
+TEST(CloudIo, PcdWithXAndYOnlyIsAPlanarScan) {
+  const std::string p = tempPath("xy", ".pcd");
+  writeText(p,
+            "VERSION 0.7\nFIELDS x y intensity\nSIZE 4 8 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\n"
+            "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n1.5 -2 7\n3 4 8\n");
+  LoadedCloud c;
+  std::string err;
+  ASSERT_TRUE(loadCloud(p, &c, &err)) << err;
+  EXPECT_TRUE(c.planar);
+  ASSERT_EQ(c.points.size(), 2u);
+  EXPECT_EQ(c.points[0], Vec3(1.5, -2.0, 0.0));
+  EXPECT_EQ(c.points[1], Vec3(3.0, 4.0, 0.0));
+  EXPECT_FLOAT_EQ(c.intensity[1], 8.f);
+  writeText(p,
+            "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+            "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n1 2 0\n");
+  ASSERT_TRUE(loadCloud(p, &c, &err)) << err;
+  EXPECT_FALSE(c.planar);
+  std::remove(p.c_str());
+}
+
 // x of every PCD type, in both encodings: F 4 and F 8 are read exactly (0.1 stays the double
 // 0.1 in F 8, not the float's 0.100000001), every integer type is refused with the field
 // and its type named: 64-bit integers were once read as the bits of a double (every point

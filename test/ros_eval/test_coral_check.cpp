@@ -489,3 +489,40 @@ TEST(CoralCheckLoopClosure, NoReturnReadingsAtTheMaximumRangeAreDroppedAndCounte
                                                         << r.out << "\n"
                                                         << clean.out;
 }
+
+// A 2D scan written without its zeros (FIELDS x y) is the same scan to a 2D preset, and
+// refused by a 3D one (exit 2, naming the file and the dimension) instead of a verdict on a
+// flat cloud.
+TEST(CoralCheckLoopClosure, PlanarPcdWithoutZIsTakenByA2dPresetOnly) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  AcesLoops aces;
+  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
+  ASSERT_FALSE(aces.set.revisits.empty());
+  const LoopCandidate& c = aces.set.revisits.front();
+  const CheckRun with_z = checkLoop(aces.set, c, c.T_a_b);
+  ASSERT_EQ(with_z.status, 0) << with_z.err;
+  const std::string a = tempPath("cc_xy_a", ".pcd"), b = tempPath("cc_xy_b", ".pcd"),
+                    t = tempPath("cc_xy_t", ".txt");
+  const auto writeXy = [](const std::string& path, const Points& pts) {
+    std::ofstream f(path);
+    f << "VERSION 0.7\nFIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH " << pts.size()
+      << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size() << "\nDATA ascii\n";
+    for (const Vec3& p : pts) f << p.x() << " " << p.y() << "\n";
+  };
+  writeXy(a, aces.set.rel_scans[c.a].scan.points);
+  writeXy(b, aces.set.rel_scans[c.b].scan.points);
+  writeMatrix(t, c.T_a_b);
+  const std::string scans = " --a " + a + " --b " + b + " --transform_file " + t;
+  const CheckRun r = runCheck("--config " + coral_test::sourceDir() +
+                              "/config/lidar_2d.yaml --loop_closure" + scans);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* key : {"aligned", "probability", "quality", "overlap", "rejected_by",
+                          "free_space_conflict", "num_points_a", "num_points_b"})
+    EXPECT_EQ(field(r.out, key), field(with_z.out, key)) << key << "\n" << r.out;
+  const CheckRun refused = runCheck("--config " + coral_test::sourceDir() +
+                                    "/config/lidar_3d.yaml --loop_closure" + scans);
+  EXPECT_EQ(refused.status, 2) << refused.out;
+  EXPECT_NE(refused.err.find("planar PCD (fields x, y, no z) under a 3D preset"), std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find(a), std::string::npos) << refused.err;
+}

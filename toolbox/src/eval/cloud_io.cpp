@@ -142,8 +142,9 @@ bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
   for (const pcl::PCLPointField& field : c.fields)
     for (int k = 0; k < 4; ++k)
       if (field.name == names[k]) f[k] = &field;
-  if (!f[0] || !f[1] || !f[2])
-    return coral::fail(error, path + ": PCD file without fields x, y, z");
+  if (!f[0] || !f[1])
+    return coral::fail(error, path + ": PCD file without fields x, y, z (or x, y for 2D)");
+  cloud->planar = f[2] == nullptr;
   for (int k = 0; k < 4; ++k)
     if (f[k] && !checkPcdField(path, *f[k], k < 3, encoding == 0, error)) return false;
   const std::size_t n = static_cast<std::size_t>(c.width) * c.height;
@@ -223,6 +224,7 @@ bool isometryFrom3x4(const double* m, Eigen::Isometry3d* T) {
 bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error) {
   cloud->points.clear();
   cloud->intensity.clear();
+  cloud->planar = false;
   const std::string ext = lowerExtension(path);
   try {
     if (ext == "pcd") return loadPcd(path, cloud, error);

@@ -17,6 +17,9 @@ namespace eval {
 struct LoadedCloud {
   coral::Points points;           // as stored (non-finite points kept: CorAl drops them)
   std::vector<double> intensity;  // same size as points, or empty when the file has none
+  // A PCD with fields x and y but no z (a planar scan written without its zeros): z = 0.
+  // Only a 2D reader may take it as such; coral_check refuses it under a 3D preset.
+  bool planar = false;
 };
 
 // Chooses the reader by the file extension (.pcd, .bin, .csv; case-insensitive). False
