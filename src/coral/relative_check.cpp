@@ -86,6 +86,13 @@ RelativeCheckResult decideRelative(double q, const std::vector<ToleranceOffset>&
   return r;
 }
 
+std::vector<Axis> horizontalFlatAxes(const std::vector<Axis>& flat) {
+  std::vector<Axis> out;
+  for (Axis a : flat)
+    if (a == Axis::kX || a == Axis::kY || a == Axis::kYaw) out.push_back(a);
+  return out;
+}
+
 bool exceedsMargin(const RelativeCheckResult& r, const RelativeCheckConfig& cfg) {
   return r.valid && r.score > cfg.margin;
 }

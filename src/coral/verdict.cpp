@@ -46,8 +46,8 @@ std::string GateConfig::validate() const {
       .require(constraint_beam_step_deg >= 0.0 && constraint_beam_step_deg <= 10.0,
                "constraint_beam_step_deg", "in [0, 10] deg, 0 = off", constraint_beam_step_deg)
       .require(!std::isnan(max_quality), "max_quality", "a number of nats, .inf = off", max_quality)
-      .require(max_flat_axes >= -1 && max_flat_axes <= 5, "max_flat_axes", "in [-1, 5], -1 = off",
-               max_flat_axes)
+      .require(max_flat_axes >= -1 && max_flat_axes <= 2, "max_flat_axes",
+               "in [-1, 2] (of x, y, yaw), -1 = off", max_flat_axes)
       .require(coarse_max_multiple == 0 || (coarse_max_multiple >= 2 && coarse_max_multiple <= 16),
                "coarse_max_multiple", "0 (off) or in [2, 16] tolerances", coarse_max_multiple)
       .require(coarse_margin >= 0.0 && std::isfinite(coarse_margin), "coarse_margin", ">= 0 nats",
@@ -166,13 +166,14 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
         out->rejected_by =
             "gate: overlap " + number(terms.overlap) + " < " + number(gate.min_overlap);
       } else if (gate.max_flat_axes >= 0 &&
-                 static_cast<int>(relative.flat_axes.size()) > gate.max_flat_axes) {
+                 static_cast<int>(horizontalFlatAxes(relative.flat_axes).size()) >
+                     gate.max_flat_axes) {
         out->aligned = false;
+        const std::vector<Axis> flat = horizontalFlatAxes(relative.flat_axes);
         std::string names;
-        for (Axis a : relative.flat_axes)
-          names += std::string(names.empty() ? "" : ", ") + axisName(a);
-        out->rejected_by = "gate: " + std::to_string(relative.flat_axes.size()) + " flat axes (" +
-                           names + ") > " + std::to_string(gate.max_flat_axes) +
+        for (Axis a : flat) names += std::string(names.empty() ? "" : ", ") + axisName(a);
+        out->rejected_by = "gate: " + std::to_string(flat.size()) + " flat axes (" + names +
+                           ") > " + std::to_string(gate.max_flat_axes) +
                            " (Q does not pin the pose along them)";
       } else if (terms.quality > gate.max_quality) {
         out->aligned = false;

@@ -72,6 +72,12 @@ struct RelativeCheckResult {
   int coral_evaluations = 0;  // CoralPair poses evaluated (0 for decideRelative)
 };
 
+// Of `flat`, the axes the gate's flat-axes bound counts (verdict.hpp GateConfig::max_flat_axes):
+// x, y and yaw, order kept. They are what a loop closure corrects (odometry drifts along
+// them); z, roll and pitch are pinned by the ground, and a narrow-FOV lidar's roll is weak even
+// at a true pose (y and roll flat at 45 of 313 consecutive Livox ground truths).
+std::vector<Axis> horizontalFlatAxes(const std::vector<Axis>& flat);
+
 // CorAl of the pair with b moved by T_a_b * offset.delta, for each offset, every query (no
 // per-point output). Online self-calibration keeps (H_joint, H_sep) of each as a misaligned
 // sample, on the pair its verdict prepared.

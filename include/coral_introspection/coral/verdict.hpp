@@ -64,12 +64,14 @@ struct GateConfig {
   // other without coinciding. CorAl's own absolute test (a threshold on Q) as a loose bound
   // beside the classifier's (which weighs H_joint and H_sep apart).
   double max_quality = std::numeric_limits<double>::infinity();
-  // How many axes the relative check may report flat at the pose (relative_check.hpp: Q
-  // changes along them by less than flat_ratio of the most sensitive axis); -1 = off. At a
-  // true pose Q rises along every axis alike; two look-alike places that registration fitted
+  // How many of x, y and yaw the relative check may report flat at the pose
+  // (relative_check.hpp: Q changes along them by less than flat_ratio of the most sensitive
+  // axis; horizontalFlatAxes); -1 = off. Two look-alike places that registration fitted
   // together often match along one direction only (a 3D scan turned by 60-130 deg onto another
-  // place: Q rises steeply in yaw and hardly along x, y, roll), so CorAl pins nothing there
-  // (doc/loop_closure.md, "Ten times the look-alike places"). In [-1, 5].
+  // place: Q rises steeply along one or two axes and hardly along x, y or yaw), so CorAl pins
+  // nothing there (doc/loop_closure.md, "Ten times the look-alike places"). z, roll and pitch
+  // are not counted: the ground pins them, and a narrow-FOV lidar's roll is weak at true poses
+  // too ("Flat axes counted over x, y and yaw"). In [-1, 2] (3 would never reject).
   int max_flat_axes = -1;
   // [tolerances] coarse probe (coarse_probe.hpp): Q is evaluated 2, 4, 6, ... (every even
   // number up to this) tolerances away along each axis, both ways, and a quarter and half turn
