@@ -454,20 +454,43 @@ TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestart
   EXPECT_LT((m.relation->T_a_b.inverse() * better).translation().norm(), two_tol - 1e-3) << r.out;
 }
 
+namespace {
+
+// The first ACES loop relation as it is (c_), judged by `coral_check --loop_closure` (clean_).
+class CoralCheckAcesRelation : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    CORAL_REQUIRE_DATA("radish_aces");
+    ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces_));
+    ASSERT_FALSE(aces_.set.revisits.empty());
+    c_ = &aces_.set.revisits.front();
+    clean_ = checkLoop(aces_.set, *c_, c_->T_a_b);
+    ASSERT_EQ(clean_.status, 0) << clean_.err;
+  }
+  AcesLoops aces_;
+  const LoopCandidate* c_ = nullptr;
+  CheckRun clean_;
+};
+
+// The verdict and what it was computed from are those of `reference`: the same scans.
+void expectSameVerdict(const CheckRun& r, const CheckRun& reference) {
+  for (const char* key : {"aligned", "probability", "quality", "overlap", "rejected_by",
+                          "free_space_conflict", "num_points_a", "num_points_b"})
+    EXPECT_EQ(field(r.out, key), field(reference.out, key)) << key << "\n"
+                                                            << r.out << "\n"
+                                                            << reference.out;
+}
+
+}  // namespace
+
 // No-return readings written as points at the scanner's maximum range (ACES: 50.0 m), as a
 // converter that keeps every reading writes them: lidar_2d's coral/max_range (49.9 m) drops
 // them, counts them in the JSON line, and the verdict is the one of the scans without them.
-TEST(CoralCheckLoopClosure, NoReturnReadingsAtTheMaximumRangeAreDroppedAndCounted) {
-  CORAL_REQUIRE_DATA("radish_aces");
-  AcesLoops aces;
-  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
-  ASSERT_FALSE(aces.set.revisits.empty());
-  const LoopCandidate& c = aces.set.revisits.front();
-  const CheckRun clean = checkLoop(aces.set, c, c.T_a_b);
-  ASSERT_EQ(clean.status, 0) << clean.err;
-  EXPECT_EQ(field(clean.out, "num_beyond_max_range"), "0") << clean.out;
+TEST_F(CoralCheckAcesRelation, NoReturnReadingsAtTheMaximumRangeAreDroppedAndCounted) {
+  const LoopCandidate& c = *c_;
+  EXPECT_EQ(field(clean_.out, "num_beyond_max_range"), "0") << clean_.out;
   // Both scans with a no-return reading in every beam direction of the SICK (-90..89 deg).
-  Points pa = aces.set.rel_scans[c.a].scan.points, pb = aces.set.rel_scans[c.b].scan.points;
+  Points pa = aces_.set.rel_scans[c.a].scan.points, pb = aces_.set.rel_scans[c.b].scan.points;
   for (int deg = -90; deg < 90; ++deg) {
     const double angle = deg * M_PI / 180.0;
     pa.emplace_back(50.0 * std::cos(angle), 50.0 * std::sin(angle), 0.0);
@@ -483,24 +506,14 @@ TEST(CoralCheckLoopClosure, NoReturnReadingsAtTheMaximumRangeAreDroppedAndCounte
                a + " --b " + b + " --transform_file " + t);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(field(r.out, "num_beyond_max_range"), "360") << r.out;
-  for (const char* key : {"aligned", "probability", "quality", "overlap", "rejected_by",
-                          "free_space_conflict", "num_points_a", "num_points_b"})
-    EXPECT_EQ(field(r.out, key), field(clean.out, key)) << key << "\n"
-                                                        << r.out << "\n"
-                                                        << clean.out;
+  expectSameVerdict(r, clean_);
 }
 
 // A 2D scan written without its zeros (FIELDS x y) is the same scan to a 2D preset, and
 // refused by a 3D one (exit 2, naming the file and the dimension) instead of a verdict on a
 // flat cloud.
-TEST(CoralCheckLoopClosure, PlanarPcdWithoutZIsTakenByA2dPresetOnly) {
-  CORAL_REQUIRE_DATA("radish_aces");
-  AcesLoops aces;
-  ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
-  ASSERT_FALSE(aces.set.revisits.empty());
-  const LoopCandidate& c = aces.set.revisits.front();
-  const CheckRun with_z = checkLoop(aces.set, c, c.T_a_b);
-  ASSERT_EQ(with_z.status, 0) << with_z.err;
+TEST_F(CoralCheckAcesRelation, PlanarPcdWithoutZIsTakenByA2dPresetOnly) {
+  const LoopCandidate& c = *c_;
   const std::string a = tempPath("cc_xy_a", ".pcd"), b = tempPath("cc_xy_b", ".pcd"),
                     t = tempPath("cc_xy_t", ".txt");
   const auto writeXy = [](const std::string& path, const Points& pts) {
@@ -509,16 +522,14 @@ TEST(CoralCheckLoopClosure, PlanarPcdWithoutZIsTakenByA2dPresetOnly) {
       << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size() << "\nDATA ascii\n";
     for (const Vec3& p : pts) f << p.x() << " " << p.y() << "\n";
   };
-  writeXy(a, aces.set.rel_scans[c.a].scan.points);
-  writeXy(b, aces.set.rel_scans[c.b].scan.points);
+  writeXy(a, aces_.set.rel_scans[c.a].scan.points);
+  writeXy(b, aces_.set.rel_scans[c.b].scan.points);
   writeMatrix(t, c.T_a_b);
   const std::string scans = " --a " + a + " --b " + b + " --transform_file " + t;
   const CheckRun r = runCheck("--config " + coral_test::sourceDir() +
                               "/config/lidar_2d.yaml --loop_closure" + scans);
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* key : {"aligned", "probability", "quality", "overlap", "rejected_by",
-                          "free_space_conflict", "num_points_a", "num_points_b"})
-    EXPECT_EQ(field(r.out, key), field(with_z.out, key)) << key << "\n" << r.out;
+  expectSameVerdict(r, clean_);
   const CheckRun refused = runCheck("--config " + coral_test::sourceDir() +
                                     "/config/lidar_3d.yaml --loop_closure" + scans);
   EXPECT_EQ(refused.status, 2) << refused.out;
