@@ -140,7 +140,9 @@ Eigen::Isometry3d readPose(FuzzInput& in, int dimension) {
 void checkResult(const CoralResult& r, const CoralConfig& cfg, std::size_t finite,
                  std::size_t total) {
   CORAL_FUZZ_CHECK(r.num_non_finite == total - finite);
-  CORAL_FUZZ_CHECK(r.num_points_a + r.num_points_b + r.num_out_of_range == finite);
+  CORAL_FUZZ_CHECK(r.num_points_a + r.num_points_b + r.num_out_of_range + r.num_beyond_max_range ==
+                   finite);
+  CORAL_FUZZ_CHECK(cfg.max_range > 0.0 || r.num_beyond_max_range == 0);
   CORAL_FUZZ_CHECK(std::isfinite(r.h_joint) && std::isfinite(r.h_sep) && std::isfinite(r.quality) &&
                    std::isfinite(r.mme) && std::isfinite(r.quality_stderr));
   CORAL_FUZZ_CHECK(r.valid == r.reason.empty());

@@ -147,9 +147,14 @@ std::vector<std::vector<double>> readTum(const std::string& path) {
 
 // The good path: the figures of doc/rio.md (end-point error 0.053 m horizontal, the radar-IMU
 // time offset estimated at 0.0080 s from its prior 0.00925 s, not refused; the barometer on).
+// Iteration-bounded solves (solver/max_solver_time 10 s; the preset's 0.05 s per frame is never
+// reached in Release, ~3 ms a frame): under the sanitizers a frame takes ~50 ms, and with
+// another test beside it the time budget cut solves short and moved the end to 0.0487 m (the
+// fresh-clone CI simulation of f6cf6a2).
 TEST(RioOffline, TiBagGivesItsTrajectory) {
   CORAL_REQUIRE_DATA("ti_mmwave_demo");
-  const Result r = rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", kTiConfig, "good");
+  const Result r = rioOffline(coral_data + "/ti_mmwave_rospkg_demo.bag", kTiConfig, "good",
+                              "--set solver/max_solver_time=10");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(readTum(r.trajectory).size(), 412u);
   EXPECT_NE(r.out.find("loop end-point error: horizontal 0.05"), std::string::npos) << r.out;
