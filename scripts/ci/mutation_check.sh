@@ -50,7 +50,7 @@ MUTATIONS=(
   "constraint counts a denser scanner's points whole@src/coral/constraint.cpp@steps\[steps\.size\(\) / 2\] / reference_step_deg;@1.0;@test_constraint"
   "coarse probe's margin never reached@src/coral/verdict.cpp@terms\.coarse\.drop\(\) > gate\.coarse_margin@terms.coarse.drop() > gate.coarse_margin + 1.0@test_coarse_probe"
   "registered pose's classifier bound ignored@src/coral/verdict.cpp@at_registered\.classifier\.probability >= gate\.registered_min_probability;@true;@test_restart_check"
-  "flat-axes bound off by one@src/coral/verdict.cpp@static_cast<int>\(horizontalFlatAxes\(relative\.flat_axes\)\.size\(\)\) >(?=\n)@static_cast<int>(horizontalFlatAxes(relative.flat_axes).size()) >=@test_relative_check"
+  "flat-axes bound off by one@src/coral/verdict.cpp@static_cast<int>\(flat\.size\(\)\) > gate\.max_flat_axes@static_cast<int>(flat.size()) >= gate.max_flat_axes@test_relative_check"
   "flat-axes bound counts roll, pitch and z too@src/coral/relative_check.cpp@if \(a == Axis::kX \|\| a == Axis::kY \|\| a == Axis::kYaw\) out\.push_back\(a\);@out.push_back(a);@test_relative_check"
   "max_range never drops a point@include/coral_introspection/coral/point_filter.hpp@if \(max_range <= 0\.0\) return true;@return true;@test_coral_degenerate"
   "coarse probe ignores the registration from the pose@src/coral/coarse_probe.cpp@if \(!r\.registered \|\| r\.registered_size < 1\.0\) return r;@if (true) return r;@test_coarse_probe"

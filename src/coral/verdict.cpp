@@ -127,6 +127,7 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
   out->reason.clear();
   out->rejected_by.clear();
   const std::string p_words = "classifier p " + number(classifier.probability);
+  const std::vector<Axis> flat = horizontalFlatAxes(relative.flat_axes);  // the gate counts these
   switch (method) {
     case VerdictMethod::kClassifier:
       out->probability = classifier.probability;
@@ -165,11 +166,8 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
         out->aligned = false;
         out->rejected_by =
             "gate: overlap " + number(terms.overlap) + " < " + number(gate.min_overlap);
-      } else if (gate.max_flat_axes >= 0 &&
-                 static_cast<int>(horizontalFlatAxes(relative.flat_axes).size()) >
-                     gate.max_flat_axes) {
+      } else if (gate.max_flat_axes >= 0 && static_cast<int>(flat.size()) > gate.max_flat_axes) {
         out->aligned = false;
-        const std::vector<Axis> flat = horizontalFlatAxes(relative.flat_axes);
         std::string names;
         for (Axis a : flat) names += std::string(names.empty() ? "" : ", ") + axisName(a);
         out->rejected_by = "gate: " + std::to_string(flat.size()) + " flat axes (" + names +

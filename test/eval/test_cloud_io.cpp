@@ -110,8 +110,10 @@ TEST(CloudIo, PcdWithoutIntensityAndWithoutXyz) {
   std::remove(p.c_str());
 }
 
-// A planar scan written without its zeros (FIELDS x y): read with z = 0 and marked planar, so
-// that a 3D reader can refuse it; a file with z is not planar, nor is one read after it.
+// A planar scan written without its zeros (FIELDS x y): refused by default (keyframes, cloud
+// lists and benchmarks read 3D clouds), read with z = 0 and marked planar when the caller allows
+// it (coral_check, which refuses it under a 3D preset); a file with z is not planar, nor is one
+// read after it.
 TEST(CloudIo, PcdWithXAndYOnlyIsAPlanarScan) {
   const std::string p = tempPath("xy", ".pcd");
   writeText(p,
@@ -119,7 +121,11 @@ TEST(CloudIo, PcdWithXAndYOnlyIsAPlanarScan) {
             "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n1.5 -2 7\n3 4 8\n");
   LoadedCloud c;
   std::string err;
-  ASSERT_TRUE(loadCloud(p, &c, &err)) << err;
+  EXPECT_FALSE(loadCloud(p, &c, &err));
+  EXPECT_NE(err.find("without fields x, y, z (x, y alone: a 2D scan, not read here)"),
+            std::string::npos)
+      << err;
+  ASSERT_TRUE(loadCloud(p, &c, &err, true)) << err;
   EXPECT_TRUE(c.planar);
   ASSERT_EQ(c.points.size(), 2u);
   EXPECT_EQ(c.points[0], Vec3(1.5, -2.0, 0.0));

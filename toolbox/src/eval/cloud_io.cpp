@@ -127,7 +127,7 @@ bool checkPcdField(const std::string& path, const pcl::PCLPointField& f, bool co
 
 // PCL's reader handles the three PCD encodings (ascii, binary, binary_compressed) and
 // the header; the fields are then checked (checkPcdField) and read exactly by name.
-bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
+bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error, bool planar_ok) {
   pcl::PCLPointCloud2 c;
   pcl::PCDReader reader;
   Eigen::Vector4f origin;
@@ -142,8 +142,9 @@ bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error) {
   for (const pcl::PCLPointField& field : c.fields)
     for (int k = 0; k < 4; ++k)
       if (field.name == names[k]) f[k] = &field;
-  if (!f[0] || !f[1])
-    return coral::fail(error, path + ": PCD file without fields x, y, z (or x, y for 2D)");
+  if (!f[0] || !f[1] || (!f[2] && !planar_ok))
+    return coral::fail(error, path + ": PCD file without fields x, y, z (x, y alone: a 2D scan, " +
+                                  (planar_ok ? "read" : "not read here") + ")");
   cloud->planar = f[2] == nullptr;
   for (int k = 0; k < 4; ++k)
     if (f[k] && !checkPcdField(path, *f[k], k < 3, encoding == 0, error)) return false;
@@ -221,13 +222,13 @@ bool isometryFrom3x4(const double* m, Eigen::Isometry3d* T) {
 
 }  // namespace
 
-bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error) {
+bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error, bool planar_ok) {
   cloud->points.clear();
   cloud->intensity.clear();
   cloud->planar = false;
   const std::string ext = lowerExtension(path);
   try {
-    if (ext == "pcd") return loadPcd(path, cloud, error);
+    if (ext == "pcd") return loadPcd(path, cloud, error, planar_ok);
     if (ext == "bin") return loadKittiBin(path, cloud, error);
     if (ext == "csv") return readCsvPoints(path, &cloud->points, error);
   } catch (const std::exception& e) {  // PCL may throw on malformed headers

@@ -74,7 +74,8 @@ bool loadInput(const std::string& path, const NodeConfig& cfg, Input* in, std::s
   }
   if (!radar) {
     eval::LoadedCloud c;
-    if (!eval::loadCloud(path, &c, error)) return false;
+    // Planar PCDs are read here: the preset's dimension tells a 2D scan from a flat 3D cloud.
+    if (!eval::loadCloud(path, &c, error, true)) return false;
     if (c.planar && cfg.online.coral.dimension != 2) {
       *error = path + ": a planar PCD (fields x, y, no z) under a 3D preset (coral/dimension " +
                std::to_string(cfg.online.coral.dimension) + "): write z, or use a 2D preset";

@@ -17,15 +17,17 @@ namespace eval {
 struct LoadedCloud {
   coral::Points points;           // as stored (non-finite points kept: CorAl drops them)
   std::vector<double> intensity;  // same size as points, or empty when the file has none
-  // A PCD with fields x and y but no z (a planar scan written without its zeros): z = 0.
-  // Only a 2D reader may take it as such; coral_check refuses it under a 3D preset.
+  // A PCD with fields x and y but no z (a planar scan written without its zeros), read with
+  // z = 0: only when the caller allows planar PCDs (loadCloud).
   bool planar = false;
 };
 
 // Chooses the reader by the file extension (.pcd, .bin, .csv; case-insensitive). False
 // with a message naming the file on a missing/unreadable file, a malformed record or an
-// unknown extension. Never throws.
-bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error);
+// unknown extension. Never throws. A PCD without z is refused unless planar_ok (a reader
+// that can tell a 2D scan from a flat 3D cloud: coral_check, by its preset's dimension).
+bool loadCloud(const std::string& path, LoadedCloud* cloud, std::string* error,
+               bool planar_ok = false);
 
 // Reads the first three numeric columns of every data line. The first line is skipped
 // when it is not numeric (a header). False with a message on a missing file or bad line.
