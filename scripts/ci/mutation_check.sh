@@ -54,6 +54,7 @@ MUTATIONS=(
   "flat-axes bound counts roll, pitch and z too@src/coral/relative_check.cpp@if \(a == Axis::kX \|\| a == Axis::kY \|\| a == Axis::kYaw\) out\.push_back\(a\);@out.push_back(a);@test_relative_check"
   "max_range never drops a point@include/coral_introspection/coral/point_filter.hpp@if \(max_range <= 0\.0\) return true;@return true;@test_coral_degenerate"
   "coarse probe ignores the registration from the pose@src/coral/coarse_probe.cpp@if \(!r\.registered \|\| r\.registered_size < 1\.0\) return r;@if (true) return r;@test_coarse_probe"
+  "coarse probe judges poses above its band@src/coral/verdict.cpp@return gate\.coarse_below_probability >= 1\.0 \|\| p < gate\.coarse_below_probability;@return true;@test_coarse_probe"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).

@@ -52,6 +52,9 @@ std::string GateConfig::validate() const {
                "coarse_max_multiple", "0 (off) or in [2, 16] tolerances", coarse_max_multiple)
       .require(coarse_margin >= 0.0 && std::isfinite(coarse_margin), "coarse_margin", ">= 0 nats",
                coarse_margin)
+      .require(coarse_below_probability > min_probability && coarse_below_probability <= 1.0,
+               "coarse_below_probability", "in (min_probability, 1], 1 = every pose",
+               coarse_below_probability)
       .require(relative_margin < 2.0, "relative_margin", "< 2 (< 0: the relative check's)",
                relative_margin)
       .require(max_refinement >= 0.0 && max_refinement <= 1.0, "max_refinement",
@@ -112,6 +115,10 @@ GateTerms gateTerms(const AlignmentVerdict& v) {
   return {v.coral.overlap, v.coral.quality, v.free_space, v.constraint, v.coarse};
 }
 
+bool coarseProbeJudges(const GateConfig& gate, double p) {
+  return gate.coarse_below_probability >= 1.0 || p < gate.coarse_below_probability;
+}
+
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
                     AlignmentVerdict* out, const GateConfig& gate, const GateTerms& terms) {
@@ -152,7 +159,8 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
       out->aligned = !relative.misaligned;
       if (relative.misaligned) {
         out->rejected_by = relativeRejection(relative, cfg);
-      } else if (terms.coarse.valid && terms.coarse.drop() > gate.coarse_margin) {
+      } else if (terms.coarse.valid && coarseProbeJudges(gate, classifier.probability) &&
+                 terms.coarse.drop() > gate.coarse_margin) {
         out->aligned = false;
         out->rejected_by = "gate: coarse probe: Q " + number(terms.coarse.drop()) +
                            " nats lower at " + terms.coarse.lowest.name +
@@ -231,8 +239,11 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
     v.constraint = registrationConstraint(pair.points(0), pair.points(1), T_a_b, coral,
                                           cfg.tolerance, cfg.gate.constraint_beam_step_deg);
   // Not when the relative check already rejects (its probes cost 2 x axes x steps + 3 and a
-  // registration); an invalid result when the gate asks for neither.
-  if (rel_needed && (!v.relative.misaligned || cfg.measure_gate_terms))
+  // registration), nor where p is above the probe's band; an invalid result when the gate asks
+  // for neither.
+  if (rel_needed &&
+      ((!v.relative.misaligned && coarseProbeJudges(cfg.gate, v.classifier.probability)) ||
+       cfg.measure_gate_terms))
     v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
                            cfg.gate.coarse_max_multiple,
                            cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr);

@@ -71,6 +71,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("gate/max_flat_axes", &o.verdict.gate.max_flat_axes) &&
       r.get("gate/coarse_max_multiple", &o.verdict.gate.coarse_max_multiple) &&
       r.get("gate/coarse_margin", &o.verdict.gate.coarse_margin) &&
+      r.get("gate/coarse_below_probability", &o.verdict.gate.coarse_below_probability) &&
       r.get("gate/coarse_registration", &o.verdict.gate.coarse_registration) &&
       r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
       r.get("loop_closure/min_overlap", &o.verdict.loop_closure.min_overlap) &&
@@ -83,6 +84,8 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("loop_closure/max_flat_axes", &o.verdict.loop_closure.max_flat_axes) &&
       r.get("loop_closure/coarse_max_multiple", &o.verdict.loop_closure.coarse_max_multiple) &&
       r.get("loop_closure/coarse_margin", &o.verdict.loop_closure.coarse_margin) &&
+      r.get("loop_closure/coarse_below_probability",
+            &o.verdict.loop_closure.coarse_below_probability) &&
       r.get("loop_closure/coarse_registration", &o.verdict.loop_closure.coarse_registration) &&
       r.get("loop_closure/max_refinement", &o.verdict.loop_closure.max_refinement) &&
       r.get("loop_closure/restarts", &o.verdict.loop_closure.restarts) &&

@@ -112,6 +112,38 @@ TEST(CoarseProbe, RegistrationFromThePoseCatchesAnErrorBetweenTheSteps) {
   EXPECT_TRUE(judgeAlignment(p.a, p.b, T, coral, loose).aligned);
 }
 
+// coarse_below_probability: the probe judges (and is run for) only poses whose classifier p is
+// below it, a band above min_probability where p alone is unsure; above it the pose is the
+// gate's p alone. The error of two tolerances above, judged with the band just below and just
+// above its own p.
+TEST(CoarseProbe, JudgesOnlyPosesBelowItsProbability) {
+  const YardPair p = yardPair(1);
+  const CoralConfig coral = planarYardCoral();
+  const Eigen::Isometry3d T = p.T_a_b * se2(0.6, 0, 0);
+  const AlignmentVerdict every = judgeAlignment(p.a, p.b, T, coral, gated(10, false));
+  ASSERT_TRUE(every.valid);
+  ASSERT_FALSE(every.aligned);
+  ASSERT_TRUE(every.coarse.valid);
+  const double p_error = every.classifier.probability;
+  ASSERT_GT(p_error, 1e-6);
+  ASSERT_LT(p_error, 0.99);
+  VerdictConfig band = gated(10, false);
+  band.gate.coarse_below_probability = p_error * 1.01;  // p is in the band: judged, rejected
+  const AlignmentVerdict in_band = judgeAlignment(p.a, p.b, T, coral, band);
+  EXPECT_FALSE(in_band.aligned);
+  EXPECT_NE(in_band.rejected_by.find("gate: coarse probe"), std::string::npos);
+  band.gate.coarse_below_probability = p_error * 0.99;  // p above the band: not even run
+  const AlignmentVerdict above = judgeAlignment(p.a, p.b, T, coral, band);
+  EXPECT_TRUE(above.aligned) << above.rejected_by;
+  EXPECT_FALSE(above.coarse.valid);
+  // Measured anyway (evaluation), a probe above the band still does not judge.
+  band.measure_gate_terms = true;
+  const AlignmentVerdict measured = judgeAlignment(p.a, p.b, T, coral, band);
+  EXPECT_TRUE(measured.coarse.valid);
+  EXPECT_TRUE(measured.aligned) << measured.rejected_by;
+  EXPECT_TRUE(coarseProbeJudges(GateConfig(), 1.0));  // default 1: every pose, p = 1 too
+}
+
 TEST(CoarseProbe, ConfigOutOfRangeIsRefusedAndNamed) {
   VerdictConfig v = gated(10, true);
   EXPECT_EQ(v.validate(), "");
@@ -125,4 +157,12 @@ TEST(CoarseProbe, ConfigOutOfRangeIsRefusedAndNamed) {
   EXPECT_NE(v.validate().find("loop_closure"), std::string::npos);
   v.loop_closure.coarse_margin = std::nan("");
   EXPECT_NE(v.validate().find("coarse_margin"), std::string::npos);
+  v.loop_closure.coarse_margin = 0.02;
+  v.gate.min_probability = 0.01;
+  for (double bad : {0.0, 0.01, 1.5, std::nan("")}) {  // at or below min_probability, above 1
+    v.gate.coarse_below_probability = bad;
+    EXPECT_NE(v.validate().find("coarse_below_probability"), std::string::npos) << bad;
+  }
+  v.gate.coarse_below_probability = 0.05;
+  EXPECT_EQ(v.validate(), "");
 }

@@ -188,6 +188,7 @@ std::string describe(const NodeConfig& c) {
     << "\ngate.max_flat_axes = " << c.online.verdict.gate.max_flat_axes
     << "\ngate.coarse_max_multiple = " << c.online.verdict.gate.coarse_max_multiple
     << "\ngate.coarse_margin = " << c.online.verdict.gate.coarse_margin
+    << "\ngate.coarse_below_probability = " << c.online.verdict.gate.coarse_below_probability
     << "\ngate.coarse_registration = " << c.online.verdict.gate.coarse_registration
     << "\nloop_closure.min_probability = " << c.online.verdict.loop_closure.min_probability
     << "\nloop_closure.min_overlap = " << c.online.verdict.loop_closure.min_overlap
@@ -200,6 +201,8 @@ std::string describe(const NodeConfig& c) {
     << "\nloop_closure.max_flat_axes = " << c.online.verdict.loop_closure.max_flat_axes
     << "\nloop_closure.coarse_max_multiple = " << c.online.verdict.loop_closure.coarse_max_multiple
     << "\nloop_closure.coarse_margin = " << c.online.verdict.loop_closure.coarse_margin
+    << "\nloop_closure.coarse_below_probability = "
+    << c.online.verdict.loop_closure.coarse_below_probability
     << "\nloop_closure.coarse_registration = " << c.online.verdict.loop_closure.coarse_registration
     << "\nloop_closure.max_refinement = " << c.online.verdict.loop_closure.max_refinement
     << "\nloop_closure.restarts = " << c.online.verdict.loop_closure.restarts

@@ -75,6 +75,8 @@ const std::vector<Row>& rows() {
        [](const Column& c) {
          std::string s = c.gate.coarse_max_multiple > 0 ? num(c.gate.coarse_max_multiple) : "";
          if (c.gate.coarse_registration) s += s.empty() ? "registration" : ", registration";
+         if (c.gate.coarse_below_probability < 1)
+           s += (s.empty() ? "p < " : ", p < ") + num(c.gate.coarse_below_probability);
          return s;
        }},
       {"refinement / restarts / registered once",

@@ -612,7 +612,10 @@ TEST(PresetVerdicts, EveryErrorSizeLidar3dAnyRotation) {
 //   ground at different ranges (2026-12-06). p > 0.9999 at ground truth too; with bands of
 //   0.6 / 0.8 / 1.0 / 1.5 deg (two to four rings, harsher than a real pair: ground stripes metres
 //   wide that the other scan never sees) Q at the truth rises to 0.10 / 0.11 / 0.14 / 0.18 and
-//   the stream gate (p >= 0.05) rejects 0 / 0 / 1 / 2 of the 3 frames (doc/verdict_every_error.md);
+//   a stream gate of p >= 0.05 alone rejects 0 / 0 / 1 / 2 of the 3 frames
+//   (doc/verdict_every_error.md); the 1 deg split is swept too: since the coarse probe judges
+//   the band 0.001 <= p < 0.05 (gate/coarse_below_probability), its frame 01201 (p 0.017) is
+//   accepted, and 0 of 252 errors;
 // - alternate points with b thinned to every 8th (10-12k points against 84-97k: a sparse scan
 //   against a dense one, as a 16-beam scan or a keyframe against a submap): p > 0.9999 at
 //   ground truth (and at 1/16: Q 0.058-0.084).
@@ -623,12 +626,12 @@ TEST(PresetVerdicts, EveryErrorSizeLidar3dOnSplitHdl64Scans) {
   ros_adapters::NodeConfig node;
   coral_test::loadPreset("lidar_3d", &node);
   const std::size_t frames = stride() > 1 ? 1 : 3;
-  enum Split { kAlternatePoints, kRings, kSparseB };
+  enum Split { kAlternatePoints, kRings, kSparseB, kWideRings };
   const char* names[] = {"alternate points", "0.4 deg elevation bands",
-                         "alternate points, b thinned to every 8th"};
+                         "alternate points, b thinned to every 8th", "1 deg elevation bands"};
   // Under the sanitizers' stride one split only (the same code runs for each; 497 s of ASan
   // for this test file with all three).
-  std::vector<Split> splits = {kAlternatePoints, kRings, kSparseB};
+  std::vector<Split> splits = {kAlternatePoints, kRings, kSparseB, kWideRings};
   if (stride() > 1) splits = {kRings};
   for (const Split split : splits) {
     eval::PairDataset d;
@@ -643,8 +646,10 @@ TEST(PresetVerdicts, EveryErrorSizeLidar3dOnSplitHdl64Scans) {
       for (std::size_t i = 0; i < c.points.size(); ++i) {
         const coral::Vec3& p = c.points[i];
         const double elevation_deg = std::atan2(p.z(), p.head<2>().norm()) * 180.0 / M_PI;
-        const long half = split == kRings ? static_cast<long>(std::floor(elevation_deg / 0.4))
-                                          : static_cast<long>(i);
+        const double band_deg = split == kWideRings ? 1.0 : 0.4;
+        const long half = split == kRings || split == kWideRings
+                              ? static_cast<long>(std::floor(elevation_deg / band_deg))
+                              : static_cast<long>(i);
         if (split == kSparseB && (half & 1) && i % 16 != 1) continue;  // every 8th of b's
         halves[half & 1].scan.points.push_back(p);
       }

@@ -89,6 +89,14 @@ struct GateConfig {
   // the steps' sizes land off the narrow minimum of Q at the truth, a registration into it.
   bool coarse_registration = false;
   double coarse_margin = 0.02;  // [nats] Q of a coarse probe must lie this far below the pose's
+  // [-] the coarse probe judges only poses whose classifier p is below this (and is only run
+  // for them): a band above min_probability where p alone is unsure. A sensor the classifier
+  // was not trained on puts its aligned pairs lower than the training pairs (ground truth
+  // p 0.01-0.07 on HDL-64 scans split by elevation bands, doc/verdict_every_error.md), where a
+  // fixed bound on p must choose between them and the errors; the probe decides by Q's shape
+  // instead, and costs nothing for the pairs p is sure of. In (min_probability, 1]; 1 = every
+  // pose.
+  double coarse_below_probability = 1.0;
   // [-] loop closures only (loopClosureVerdict): the relative check's margin for these pairs;
   // < 0 = the stream's (RelativeCheckConfig::margin). A registration a little off (ICP
   // stopped 2-3 tolerances from a revisit) leaves a weaker slope than a one-tolerance step.
@@ -192,6 +200,9 @@ struct AlignmentVerdict {
 // A monotone confidence in [0, 1] for the relative check, 0.5 at the margin: sigmoid(10 *
 // (margin - score)). Not calibrated; it orders pairs (ROC) and fills `probability`.
 double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConfig& cfg);
+
+// Whether the gate's coarse probe judges a pose of classifier p (coarse_below_probability).
+bool coarseProbeJudges(const GateConfig& gate, double p);
 
 // The absolute terms the gate reads besides the classifier's p, measured at the pose.
 struct GateTerms {
