@@ -117,28 +117,27 @@ TEST(CoarseProbe, RegistrationFromThePoseCatchesAnErrorBetweenTheSteps) {
 // gate's p alone. The error of two tolerances above, judged with the band just below and just
 // above its own p.
 TEST(CoarseProbe, JudgesOnlyPosesBelowItsProbability) {
-  const YardPair p = yardPair(1);
-  const CoralConfig coral = planarYardCoral();
-  const Eigen::Isometry3d T = p.T_a_b * se2(0.6, 0, 0);
-  const AlignmentVerdict every = judgeAlignment(p.a, p.b, T, coral, gated(10, false));
-  ASSERT_TRUE(every.valid);
+  const YardPair yard = yardPair(1);
+  const auto judge = [&yard](const VerdictConfig& cfg) {  // two tolerances along x
+    return judgeAlignment(yard.a, yard.b, yard.T_a_b * se2(0.6, 0, 0), planarYardCoral(), cfg);
+  };
+  VerdictConfig band = gated(10, false);
+  const AlignmentVerdict every = judge(band);
+  ASSERT_TRUE(every.valid && every.coarse.valid);
   ASSERT_FALSE(every.aligned);
-  ASSERT_TRUE(every.coarse.valid);
   const double p_error = every.classifier.probability;
   ASSERT_GT(p_error, 1e-6);
   ASSERT_LT(p_error, 0.99);
-  VerdictConfig band = gated(10, false);
   band.gate.coarse_below_probability = p_error * 1.01;  // p is in the band: judged, rejected
-  const AlignmentVerdict in_band = judgeAlignment(p.a, p.b, T, coral, band);
+  const AlignmentVerdict in_band = judge(band);
   EXPECT_FALSE(in_band.aligned);
   EXPECT_NE(in_band.rejected_by.find("gate: coarse probe"), std::string::npos);
   band.gate.coarse_below_probability = p_error * 0.99;  // p above the band: not even run
-  const AlignmentVerdict above = judgeAlignment(p.a, p.b, T, coral, band);
+  const AlignmentVerdict above = judge(band);
   EXPECT_TRUE(above.aligned) << above.rejected_by;
   EXPECT_FALSE(above.coarse.valid);
-  // Measured anyway (evaluation), a probe above the band still does not judge.
-  band.measure_gate_terms = true;
-  const AlignmentVerdict measured = judgeAlignment(p.a, p.b, T, coral, band);
+  band.measure_gate_terms = true;  // measured anyway (evaluation): still does not judge
+  const AlignmentVerdict measured = judge(band);
   EXPECT_TRUE(measured.coarse.valid);
   EXPECT_TRUE(measured.aligned) << measured.rejected_by;
   EXPECT_TRUE(coarseProbeJudges(GateConfig(), 1.0));  // default 1: every pose, p = 1 too
