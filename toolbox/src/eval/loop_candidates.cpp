@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "coral_introspection/coral/validation.hpp"
 
@@ -266,53 +267,87 @@ bool relationRegistrations(const std::vector<TrainingScan>& scans,
   return true;
 }
 
-bool buildLoopCandidates(const std::vector<TrainingScan>& scans,
-                         const coral::Isometries& T_world_ref,
-                         const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
-                         std::vector<LoopCandidate>* out, std::string* error) {
-  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
+namespace {
+
+// Candidates (a) and (b) of a sequence: revisits within cfg.radius in T_near (the poses a back
+// end proposes by), registered from init(i, j); look-alike places at least
+// cfg.lookalike_min_distance apart in T_far, registered from each of cfg.headings_deg; each
+// kept when keep(&c) says so (it may label c).
+void proposeCandidates(const std::vector<TrainingScan>& scans, const coral::Isometries& T_near,
+                       const coral::Isometries& T_far,
+                       const std::function<Eigen::Isometry3d(int, int)>& init,
+                       const LoopCandidateConfig& cfg,
+                       const std::function<bool(LoopCandidate*)>& keep,
+                       std::vector<LoopCandidate>* out) {
   const int n = static_cast<int>(scans.size());
-  if (T_world_ref.size() != scans.size() || T_world_odom.size() != scans.size())
-    return coral::fail(error, "scans, reference and odometry poses differ in number");
   out->clear();
   auto distIn = [](const coral::Isometries& T, int i, int j) {
     return (T[i].translation() - T[j].translation()).head<2>().norm();
   };
-  auto dist = [&](int i, int j) { return distIn(T_world_ref, i, j); };
-  const coral::Isometries& proposal = cfg.propose_by_odometry ? T_world_odom : T_world_ref;
-  auto label = [&](LoopCandidate* c) {  // drops the ambiguous band
-    return labelCandidate(T_world_ref[c->a].inverse() * T_world_ref[c->b], cfg, c);
-  };
-  // (a) revisits within the radius, registered from the odometry's relative pose.
+  // (a) revisits within the radius.
   for (const auto& [i, j] :
        spreadPairs(n, cfg.min_index_gap, cfg.max_radius_candidates,
-                   [&](int i, int j) { return distIn(proposal, i, j) <= cfg.radius; })) {
+                   [&](int i, int j) { return distIn(T_near, i, j) <= cfg.radius; })) {
     LoopCandidate c;
     c.a = i;
     c.b = j;
     c.source = "radius";
-    Eigen::Isometry3d init = T_world_odom[i].inverse() * T_world_odom[j];
-    if (cfg.init_offset >= 0.0)
-      init = T_world_ref[i].inverse() * T_world_ref[j] *
-             planarOffset(cfg.init_offset, 0.0, cfg.init_offset_deg);
-    registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
-    if (label(&c)) out->push_back(c);
+    registerPair(scans[i].scan.points, scans[j].scan.points, init(i, j), cfg, &c);
+    if (keep(&c)) out->push_back(c);
   }
   // (b) different places registered from several headings (translation zero).
   for (const auto& [i, j] :
        spreadPairs(n, cfg.min_index_gap, cfg.max_lookalike_pairs,
-                   [&](int i, int j) { return dist(i, j) >= cfg.lookalike_min_distance; }))
+                   [&](int i, int j) { return distIn(T_far, i, j) >= cfg.lookalike_min_distance; }))
     for (double yaw : cfg.headings_deg) {
       LoopCandidate c;
       c.a = i;
       c.b = j;
       c.source = "lookalike";
       c.init_yaw_deg = yaw;
-      Eigen::Isometry3d init = Eigen::Isometry3d::Identity();
-      init.linear() = Eigen::AngleAxisd(yaw * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
-      registerPair(scans[i].scan.points, scans[j].scan.points, init, cfg, &c);
-      if (label(&c)) out->push_back(c);
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.linear() = Eigen::AngleAxisd(yaw * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
+      registerPair(scans[i].scan.points, scans[j].scan.points, T, cfg, &c);
+      if (keep(&c)) out->push_back(c);
     }
+}
+
+}  // namespace
+
+bool buildLoopCandidates(const std::vector<TrainingScan>& scans,
+                         const coral::Isometries& T_world_ref,
+                         const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                         std::vector<LoopCandidate>* out, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
+  if (T_world_ref.size() != scans.size() || T_world_odom.size() != scans.size())
+    return coral::fail(error, "scans, reference and odometry poses differ in number");
+  // Revisits registered from the odometry's relative pose, or from the reference's moved by
+  // init_offset; labelled against the reference (the ambiguous band dropped).
+  auto init = [&](int i, int j) -> Eigen::Isometry3d {
+    if (cfg.init_offset >= 0.0)
+      return T_world_ref[i].inverse() * T_world_ref[j] *
+             planarOffset(cfg.init_offset, 0.0, cfg.init_offset_deg);
+    return T_world_odom[i].inverse() * T_world_odom[j];
+  };
+  auto label = [&](LoopCandidate* c) {
+    return labelCandidate(T_world_ref[c->a].inverse() * T_world_ref[c->b], cfg, c);
+  };
+  proposeCandidates(scans, cfg.propose_by_odometry ? T_world_odom : T_world_ref, T_world_ref, init,
+                    cfg, label, out);
+  return true;
+}
+
+bool proposeLoopCandidates(const std::vector<TrainingScan>& scans,
+                           const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                           std::vector<LoopCandidate>* out, std::string* error) {
+  if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
+  if (T_world_odom.size() != scans.size())
+    return coral::fail(error, "scans and odometry poses differ in number");
+  auto init = [&](int i, int j) {
+    return Eigen::Isometry3d(T_world_odom[i].inverse() * T_world_odom[j]);
+  };
+  proposeCandidates(
+      scans, T_world_odom, T_world_odom, init, cfg, [](LoopCandidate*) { return true; }, out);
   return true;
 }
 

@@ -93,6 +93,17 @@ bool buildLoopCandidates(const std::vector<TrainingScan>& scans,
                          const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
                          std::vector<LoopCandidate>* out, std::string* error);
 
+// Candidates as a back end without reference poses proposes them (coral_pose_graph): (a)
+// revisits within cfg.radius of each other in the odometry T_world_odom, registered from its
+// relative pose (as LIO-SAM and hdl_graph_slam do), and (b) pairs at least
+// cfg.lookalike_min_distance apart in the odometry registered from cfg.headings_deg, what a
+// place recognizer's matches hand over (none when cfg.max_lookalike_pairs is 0). Unlabelled:
+// is_true false, no error, T_ref identity. Deterministic. False with *error on an invalid
+// config or mismatched sizes.
+bool proposeLoopCandidates(const std::vector<TrainingScan>& scans,
+                           const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                           std::vector<LoopCandidate>* out, std::string* error);
+
 // Revisits with exact labels (CARMEN logs): every known relative pose of `pairs` (the
 // benchmark relations joining scans far apart in time) registered again from that pose
 // moved by cfg.init_offset [m] along +x, -x, +y, -y with +-cfg.init_offset_deg of yaw (a
