@@ -4,8 +4,10 @@
 // accepts.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "coral_introspection/eval/loop_candidates.hpp"
 #include "support/yard_pair.hpp"
@@ -40,6 +42,36 @@ TEST(LoopCandidates, PointToLineRegistrationReachesTheKnownPose) {
     EXPECT_LT(t, 0.05);  // [m] a sixth of the 0.3 m tolerance
     EXPECT_LT(r, 0.5);   // [deg]
   }
+}
+
+// Every registration of both dimensions on a scan with too few points (an empty keyframe, a
+// blinded sensor) is not run: PCL dereferences an empty cloud's search tree. The candidate
+// keeps its initial pose, not converged, so every gate rejects it; a scan of exactly the
+// minimum is registered.
+TEST(LoopCandidates, AScanWithTooFewPointsIsNotRegistered) {
+  const test::YardPair p = test::yardPair(16);
+  const Eigen::Isometry3d init = p.T_a_b * coral::se2(0.2, 0.1, 0.05);
+  const coral::Points few(p.b.points.begin(),
+                          p.b.points.begin() + (eval::kMinRegistrationPoints - 1));
+  for (int dimension : {2, 3})
+    for (const std::string registration : dimension == 3
+                                              ? std::vector<std::string>{"gicp", "ndt", "icp"}
+                                              : std::vector<std::string>{"icp", "point_to_line"})
+      for (const coral::Points& b : {coral::Points(), few}) {
+        eval::LoopCandidateConfig cfg = eval::evaluationCandidates(dimension, {});
+        cfg.registration = registration;
+        eval::LoopCandidate c;
+        eval::registerPair(p.a.points, b, init, cfg, &c);
+        EXPECT_FALSE(c.converged) << registration << " " << b.size();
+        EXPECT_TRUE(c.T_a_b.isApprox(init)) << registration;
+        EXPECT_EQ(c.fitness, std::numeric_limits<double>::max());
+        eval::registerPair(b, p.b.points, init, cfg, &c);  // as the target
+        EXPECT_FALSE(c.converged) << registration << " " << b.size();
+      }
+  eval::LoopCandidate c;
+  const coral::Points enough(p.b.points.begin(), p.b.points.begin() + eval::kMinRegistrationPoints);
+  eval::registerPair(p.a.points, enough, init, eval::evaluationCandidates(3, {}), &c);
+  EXPECT_LT(c.fitness, std::numeric_limits<double>::max());
 }
 
 TEST(LoopCandidates, PointToLineStaysPlanar) {

@@ -21,14 +21,15 @@ namespace {
 namespace fs = std::filesystem;
 
 // A keyframe folder of `n` scans of a small box room (ASCII PCD) and odometry poses 1 m apart.
-std::string boxFolder(const std::string& name, int n, bool with_odometry) {
+// Scan `empty` (if >= 0) has no points.
+std::string boxFolder(const std::string& name, int n, bool with_odometry, int empty = -1) {
   const std::string dir = coral_test::tempPath(name, "");
   fs::create_directories(dir + "/Scans");
   for (int k = 0; k < n; ++k) {
     char file[64];
     std::snprintf(file, sizeof file, "/Scans/%06d.pcd", k);
     std::vector<std::string> pts;
-    for (int i = 0; i < 40; ++i)
+    for (int i = 0; i < (k == empty ? 0 : 40); ++i)
       for (int j = 0; j < 10; ++j) {
         const double u = -4.0 + 0.2 * i, z = 0.2 * j;
         for (const auto& [x, y] : {std::pair{u, 4.0}, {u, -4.0}, {4.0, u}, {-4.0, u}})
@@ -108,6 +109,31 @@ TEST(PoseGraphArgs, ASmallSequenceIsGatedAndWritten) {
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, 4);  // header + 3 candidates
+}
+
+// A keyframe without points (a blinded sensor) is normal input: the pairs with it are
+// proposed, not registered, rejected with the reason, and the rest of the graph is written.
+TEST(PoseGraphArgs, AnEmptyKeyframeIsRejectedNotACrash) {
+  const std::string box = boxFolder("pose_graph_empty", 3, true, 1);
+  const std::string out = coral_test::tempPath("pose_graph_empty_out", "");
+  fs::create_directories(out);
+  for (const char* registration : {"gicp", "ndt", "icp"}) {
+    const coral_test::ToolRun r = coral_test::runTool(
+        CORAL_POSE_GRAPH_EXE, "--config " + coral_test::sourceDir() + "/config/lidar_3d.yaml" +
+                                  " --keyframes " + box + " --out_dir " + out +
+                                  " --min_gap 1 --registration " + registration);
+    ASSERT_EQ(r.status, 0) << registration << "\n" << r.err;
+    std::istringstream csv(coral_test::readWholeFile(out + "/candidates.csv"));
+    std::string line;
+    std::getline(csv, line);
+    int rows = 0;
+    for (; std::getline(csv, line); ++rows) {
+      const bool with_empty = line.rfind("0,1,", 0) == 0 || line.rfind("1,2,", 0) == 0;
+      if (with_empty) EXPECT_NE(line.find(",0,0,,"), std::string::npos) << line;  // rejected
+      if (with_empty) EXPECT_NE(line.find("no finite point"), std::string::npos) << line;
+    }
+    EXPECT_EQ(rows, 3) << registration;
+  }
 }
 
 // The Livox keyframes with their odometry alone (a folder without optimized_poses.txt),

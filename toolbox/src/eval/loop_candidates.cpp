@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include "coral_introspection/coral/validation.hpp"
 
@@ -162,6 +163,15 @@ void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::I
                   const LoopCandidateConfig& cfg, LoopCandidate* c) {
   const auto target = toPcl(a, cfg.dimension);
   const auto source = toPcl(b, cfg.dimension);
+  // PCL's registrations dereference an empty cloud's search tree (a segfault, not an error),
+  // and GICP estimates each point's covariance from its 20 nearest neighbours: fewer points
+  // are not registered (a keyframe of a blinded sensor is normal input).
+  if (target->size() < kMinRegistrationPoints || source->size() < kMinRegistrationPoints) {
+    c->T_a_b = T_init;
+    c->converged = false;
+    c->fitness = std::numeric_limits<double>::max();  // what PCL reports without correspondences
+    return;
+  }
   Eigen::Matrix4f result;
   if (cfg.dimension == 3 && cfg.registration == "ndt") {
     pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;

@@ -80,7 +80,9 @@ struct LoopCandidate {
 LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceConfig& tolerance);
 
 // Registers b onto a from T_init (b's points into a's frame) and fills T_a_b, converged,
-// fitness. Scans in their own sensor frames.
+// fitness. Scans in their own sensor frames. A scan of fewer than kMinRegistrationPoints points
+// is not registered: T_a_b = T_init, not converged, fitness the largest double.
+constexpr std::size_t kMinRegistrationPoints = 20;
 void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::Isometry3d& T_init,
                   const LoopCandidateConfig& cfg, LoopCandidate* c);
 
