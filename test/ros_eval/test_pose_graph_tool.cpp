@@ -21,8 +21,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // A keyframe folder of `n` scans of a small box room (ASCII PCD) and odometry poses 1 m apart.
-// Scan `empty` (if >= 0) has no points.
-std::string boxFolder(const std::string& name, int n, bool with_odometry, int empty = -1) {
+// Scan `empty` (if >= 0) has no points; `planar`: fields x and y only, the room's walls at z = 0.
+std::string boxFolder(const std::string& name, int n, bool with_odometry, int empty = -1,
+                      bool planar = false) {
   const std::string dir = coral_test::tempPath(name, "");
   fs::create_directories(dir + "/Scans");
   for (int k = 0; k < n; ++k) {
@@ -30,14 +31,18 @@ std::string boxFolder(const std::string& name, int n, bool with_odometry, int em
     std::snprintf(file, sizeof file, "/Scans/%06d.pcd", k);
     std::vector<std::string> pts;
     for (int i = 0; i < (k == empty ? 0 : 40); ++i)
-      for (int j = 0; j < 10; ++j) {
+      for (int j = 0; j < (planar ? 1 : 10); ++j) {
         const double u = -4.0 + 0.2 * i, z = 0.2 * j;
         for (const auto& [x, y] : {std::pair{u, 4.0}, {u, -4.0}, {4.0, u}, {-4.0, u}})
-          pts.push_back(std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z));
+          pts.push_back(std::to_string(x) + " " + std::to_string(y) +
+                        (planar ? "" : " " + std::to_string(z)));
       }
     std::ofstream pcd(dir + file);
-    pcd << "VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " << pts.size()
-        << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size() << "\nDATA ascii\n";
+    pcd << "VERSION .7\n"
+        << (planar ? "FIELDS x y\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\n"
+                   : "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n")
+        << "WIDTH " << pts.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << pts.size()
+        << "\nDATA ascii\n";
     for (const std::string& p : pts) pcd << p << "\n";
   }
   if (with_odometry) {
@@ -109,6 +114,27 @@ TEST(PoseGraphArgs, ASmallSequenceIsGatedAndWritten) {
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, 4);  // header + 3 candidates
+}
+
+// Planar keyframes (PCD fields x, y): read as 2D scans under lidar_2d, where the room's three
+// keyframes (the same walls, odometry 1 m apart) register to the same pose and are accepted;
+// refused under a 3D preset, naming the file.
+TEST(PoseGraphArgs, PlanarKeyframesAreScansOfA2dPreset) {
+  const std::string box = boxFolder("pose_graph_planar", 3, true, -1, true);
+  const std::string out = coral_test::tempPath("pose_graph_planar_out", "");
+  fs::create_directories(out);
+  const std::string args = " --keyframes " + box + " --out_dir " + out + " --min_gap 1";
+  const coral_test::ToolRun r = coral_test::runTool(
+      CORAL_POSE_GRAPH_EXE, "--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml" + args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("3 loop candidates (3 within 3.0 m of the odometry, 0 look-alike "
+                       "registrations), 3 accepted by gate verdict"),
+            std::string::npos)
+      << r.out;
+  coral_test::expectRefused(
+      CORAL_POSE_GRAPH_EXE,
+      {{"--config " + coral_test::sourceDir() + "/config/lidar_3d.yaml" + args,
+        box + "/Scans/000000.pcd: PCD file without fields x, y, z"}});
 }
 
 // A keyframe without points (a blinded sensor) is normal input: the pairs with it are

@@ -47,7 +47,7 @@ bool loadKeyframeSequence(const std::string& folder, const KeyframeSequenceConfi
     std::string path = folder + "/" + cfg.scans_dir + name + ".pcd";
     if (!exists(path)) path = folder + "/" + cfg.scans_dir + name + ".bin";
     LoadedCloud cloud;
-    if (!loadCloud(path, &cloud, error)) return false;
+    if (!loadCloud(path, &cloud, error, cfg.planar_ok)) return false;
     TrainingScan& s = (*scans)[i];
     s.stamp = stamps.empty() ? static_cast<double>(i) : stamps[i];
     for (const coral::Vec3& p : cloud.points)

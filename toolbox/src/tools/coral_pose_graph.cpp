@@ -3,7 +3,8 @@
 // (coral_loop_eval is the evaluation, which needs reference poses to label candidates).
 //   1. keyframes DIR/Scans/NNNNNN.pcd (or .bin) and their odometry DIR/odom_poses.txt (KITTI
 //      layout, world_T_body; DIR/times.txt optional), as FAST-LIO / scan-context pose graphs
-//      write them (eval/keyframe_sequence.hpp);
+//      write them (eval/keyframe_sequence.hpp); under a 2D preset a PCD with fields x and y
+//      only is a planar scan (z = 0);
 //   2. loop candidates proposed as LIO-SAM and hdl_graph_slam propose them: keyframes at least
 //      --min_gap apart whose odometry poses lie within --radius metres, registered by PCL (GICP,
 //      NDT or LIO-SAM's point-to-point ICP) from the odometry's relative pose; with
@@ -120,6 +121,7 @@ int main(int argc, char** argv) {
   coral::Isometries odom, ref;
   eval::KeyframeSequenceConfig seq;
   seq.poses_file = "odom_poses.txt";
+  seq.planar_ok = dim == 2;  // a 2D preset reads PCDs with x and y only as planar scans
   if (!eval::loadKeyframeSequence(keyframes, seq, nullptr, &scans, &odom, &err)) return fail(err);
   if (scans.size() < 2) return fail(keyframes + ": fewer than two keyframes");
   if (!reference.empty()) {

@@ -18,7 +18,10 @@ struct KeyframeSequenceConfig {
   std::string times_file = "times.txt";            // optional; absent: stamp = index
   double min_range = 0.0;                          // [m] closer points dropped (0 = keep)
   int max_scans = 0;                               // first N keyframes; 0 = all
-  std::string validate() const;                    // empty when valid
+  // PCDs with fields x and y only are planar scans (z = 0), as loadCloud's planar_ok: for a
+  // reader that judges them in 2D (coral_pose_graph under a 2D preset); else refused.
+  bool planar_ok = false;
+  std::string validate() const;  // empty when valid
 };
 
 // Scans in their own sensor frames (origin 0) and poses T_world_scan, one per keyframe.
