@@ -29,6 +29,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "coral_introspection/coral/types.hpp"
@@ -57,9 +58,12 @@ int fail(const std::string& msg) { return eval::toolError("coral_pose_graph", ms
 // to about the tolerance's tenth (coral_loop_eval's settings).
 constexpr double kOdomSigmaT = 0.05, kOdomSigmaR = 0.01;
 
+// The verdict and the reason only: a PairJudgement also holds the prepared pair (grids,
+// filtered clouds, a few MB per dense pair), which is not kept for every candidate.
 struct Decided {
   eval::LoopCandidate c;
-  online::PairJudgement j;  // --gate verdict only
+  coral::AlignmentVerdict v;  // --gate verdict only
+  std::string reason;         // why there is no verdict
   bool accepted = false;
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // the loop edge when accepted
 };
@@ -144,11 +148,13 @@ int main(int argc, char** argv) {
     d.c = c;
     d.T_edge = c.T_a_b;
     if (gate == "verdict") {
-      d.j = online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, loop, false);
-      const coral::AlignmentVerdict& v = d.j.verdict;
-      d.accepted = v.valid && v.aligned;
+      online::PairJudgement j =
+          online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, loop, false);
+      d.v = std::move(j.verdict);
+      d.reason = std::move(j.reason);
+      d.accepted = d.v.valid && d.v.aligned;
       // Accepted registered from the pose: the verdict offers that pose (refined_transform).
-      if (d.accepted && v.refined) d.T_edge = c.T_a_b * v.refinement.delta;
+      if (d.accepted && d.v.refined) d.T_edge = c.T_a_b * d.v.refinement.delta;
     } else {
       d.accepted = gate == "none" || (c.converged && c.fitness <= max_fitness);
     }
@@ -172,16 +178,17 @@ int main(int argc, char** argv) {
     return fail(err);
   csv << "a,b,source,init_yaw_deg,fitness,converged,accepted,rejected_by,reason,refined,x,y,z,"
          "yaw_deg\n";
+  auto field = [](std::string text) {  // a sentence as one CSV cell
+    for (char& ch : text) ch = ch == ',' || ch == '\n' ? ';' : ch;
+    return text;
+  };
   for (const Decided& d : decided) {
-    const coral::AlignmentVerdict& v = d.j.verdict;
-    std::string why = v.rejected_by.empty() ? d.j.reason : std::string();
-    for (char& ch : why) ch = ch == ',' || ch == '\n' ? ';' : ch;
-    std::string by = v.rejected_by;
-    for (char& ch : by) ch = ch == ',' || ch == '\n' ? ';' : ch;
+    const coral::AlignmentVerdict& v = d.v;
     const Eigen::Vector3d t = d.c.T_a_b.translation();
     csv << d.c.a << ',' << d.c.b << ',' << d.c.source << ',' << d.c.init_yaw_deg << ','
-        << d.c.fitness << ',' << d.c.converged << ',' << d.accepted << ',' << by << ',' << why
-        << ',' << (d.accepted && v.refined) << ',' << t.x() << ',' << t.y() << ',' << t.z() << ','
+        << d.c.fitness << ',' << d.c.converged << ',' << d.accepted << ',' << field(v.rejected_by)
+        << ',' << field(v.rejected_by.empty() ? d.reason : "") << ',' << (d.accepted && v.refined)
+        << ',' << t.x() << ',' << t.y() << ',' << t.z() << ','
         << coral::yawOf(d.c.T_a_b.rotation()) * 180.0 / M_PI << '\n';
   }
   if (!csv.flush()) return fail("cannot write " + csv_path);
