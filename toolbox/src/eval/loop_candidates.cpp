@@ -315,9 +315,8 @@ void proposeCandidates(const std::vector<TrainingScan>& scans, const coral::Isom
       c.b = j;
       c.source = "lookalike";
       c.init_yaw_deg = yaw;
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = Eigen::AngleAxisd(yaw * M_PI / 180.0, Eigen::Vector3d::UnitZ()).matrix();
-      registerPair(scans[i].scan.points, scans[j].scan.points, T, cfg, &c);
+      registerPair(scans[i].scan.points, scans[j].scan.points, planarOffset(0.0, 0.0, yaw), cfg,
+                   &c);
       if (keep(&c)) out->push_back(c);
     }
 }

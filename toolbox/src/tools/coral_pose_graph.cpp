@@ -63,7 +63,7 @@ constexpr double kOdomSigmaT = 0.05, kOdomSigmaR = 0.01;
 struct Decided {
   eval::LoopCandidate c;
   coral::AlignmentVerdict v;  // --gate verdict only
-  std::string reason;         // why there is no verdict
+  std::string reason;         // why there is no verdict (empty when v.valid)
   bool accepted = false;
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // the loop edge when accepted
 };
@@ -187,9 +187,9 @@ int main(int argc, char** argv) {
     const Eigen::Vector3d t = d.c.T_a_b.translation();
     csv << d.c.a << ',' << d.c.b << ',' << d.c.source << ',' << d.c.init_yaw_deg << ','
         << d.c.fitness << ',' << d.c.converged << ',' << d.accepted << ',' << field(v.rejected_by)
-        << ',' << field(v.rejected_by.empty() ? d.reason : "") << ',' << (d.accepted && v.refined)
-        << ',' << t.x() << ',' << t.y() << ',' << t.z() << ','
-        << coral::yawOf(d.c.T_a_b.rotation()) * 180.0 / M_PI << '\n';
+        << ',' << field(d.reason) << ',' << (d.accepted && v.refined) << ',' << t.x() << ','
+        << t.y() << ',' << t.z() << ',' << coral::yawOf(d.c.T_a_b.rotation()) * 180.0 / M_PI
+        << '\n';
   }
   if (!csv.flush()) return fail("cannot write " + csv_path);
 
