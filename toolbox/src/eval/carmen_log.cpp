@@ -199,6 +199,36 @@ Eigen::Isometry3d planar(double x, double y, double theta) {
 }
 }  // namespace
 
+bool logKeyframes(const std::vector<CarmenLaserScan>& log, const LaserGeometry& geometry,
+                  double min_distance, double min_angle, std::vector<TrainingScan>* scans,
+                  coral::Isometries* T_world_odom, std::vector<int>* raw_index,
+                  std::string* error) {
+  if (const std::string e = geometry.validate(); !e.empty()) return coral::fail(error, e);
+  if (!(min_distance > 0.0) || !(min_angle > 0.0))
+    return coral::fail(error, "keyframe distance and angle must be > 0");
+  scans->clear();
+  T_world_odom->clear();
+  raw_index->clear();
+  for (std::size_t l = 0; l < log.size(); ++l) {
+    const Eigen::Vector3d& p = log[l].laser_pose;
+    if (!raw_index->empty()) {
+      const Eigen::Vector3d& last = log[static_cast<std::size_t>(raw_index->back())].laser_pose;
+      const double turned = std::abs(std::remainder(p.z() - last.z(), 2.0 * M_PI));
+      if ((p.head<2>() - last.head<2>()).norm() < min_distance && turned < min_angle) continue;
+    }
+    TrainingScan t;
+    t.stamp = log[l].stamp;
+    t.scan.points = laserPoints(log[l], geometry);
+    scans->push_back(std::move(t));
+    T_world_odom->push_back(planar(p.x(), p.y(), p.z()));
+    raw_index->push_back(static_cast<int>(l));
+  }
+  if (scans->size() < 2)
+    return coral::fail(error, "fewer than two keyframes (" + std::to_string(log.size()) +
+                                  " scans; the odometry hardly moves)");
+  return true;
+}
+
 bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::string& corrected_csv,
                        const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
                        coral::Isometries* T_world_ref, coral::Isometries* T_world_odom,

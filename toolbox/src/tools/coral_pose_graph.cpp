@@ -1,15 +1,22 @@
-// coral_pose_graph: the consumer of the loop verdict on a keyframe sequence of one's own, with
-// no reference poses: what a SLAM back end does with it, small enough to read and copy
-// (coral_loop_eval is the evaluation, which needs reference poses to label candidates).
+// coral_pose_graph: the consumer of the loop verdict on a keyframe sequence or a 2D laser log of
+// one's own, with no reference poses: what a SLAM back end does with it, small enough to read
+// and copy (coral_loop_eval is the evaluation, which needs reference poses to label candidates).
 //   1. keyframes DIR/Scans/NNNNNN.pcd (or .bin) and their odometry DIR/odom_poses.txt (KITTI
 //      layout, world_T_body; DIR/times.txt optional), as FAST-LIO / scan-context pose graphs
 //      write them (eval/keyframe_sequence.hpp); under a 2D preset a PCD with fields x and y
-//      only is a planar scan (z = 0);
+//      only is a planar scan (z = 0); or (--carmen, 2D presets) the FLASER scans of a CARMEN
+//      log taken as keyframes every --keyframe_distance metres or --keyframe_angle degrees of
+//      its raw odometry (eval::logKeyframes);
 //   2. loop candidates proposed as LIO-SAM and hdl_graph_slam propose them: keyframes at least
-//      --min_gap apart whose odometry poses lie within --radius metres, registered by PCL (GICP,
-//      NDT or LIO-SAM's point-to-point ICP) from the odometry's relative pose; with
-//      --lookalikes N, also N pairs far apart in the odometry registered from four headings
-//      (what a place recognizer's false matches hand over) (eval::proposeLoopCandidates);
+//      --min_gap apart within --radius metres, registered by PCL (GICP, NDT or LIO-SAM's
+//      point-to-point ICP; point-to-point or point-to-line ICP in 2D) from the relative pose
+//      there. --proposal odometry (keyframes' default): every such pair of the odometry, at
+//      most --max_candidates (eval::proposeLoopCandidates); --proposal estimate (CARMEN's
+//      default: wheel odometry drifts by metres between revisits): keyframe by keyframe, the
+//      nearest one in the graph's current estimate, the graph optimised after each accepted
+//      edge (eval::closeLoopsIncrementally, LIO-SAM's loop thread). With --lookalikes N, also
+//      N pairs far apart in the odometry registered from four headings (what a place
+//      recognizer's false matches hand over);
 //   3. each candidate asked the preset's loop verdict exactly as check_alignment with
 //      loop_closure answers it (online::judgePair with coral::loopClosureVerdict); --gate
 //      fitness instead accepts PCL's fitness score <= --max_fitness (LIO-SAM's 0.3), --gate
@@ -19,11 +26,13 @@
 //      (eval/pose_graph.hpp), written as OUT_DIR/trajectory.tum and trajectory.kitti, and every
 //      candidate with its verdict as OUT_DIR/candidates.csv.
 // With --reference FILE (KITTI layout, one pose per keyframe) it also prints the ATE of the
-// odometry and of the graph against it.
+// odometry and of the graph against it; with --relations FILE (CARMEN) the benchmark's relation
+// error of both (Kuemmerle et al. 2009, eval/log_nodes.hpp).
 //   rosrun coral_introspection coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml]
-//       --keyframes DIR --out_dir DIR [--registration gicp|ndt|icp] [--radius M] [--min_gap N]
-//       [--max_candidates N] [--lookalikes N] [--gate verdict|fitness|none] [--max_fitness F]
-//       [--reference FILE]
+//       (--keyframes DIR | --carmen LOG [--keyframe_distance M] [--keyframe_angle DEG])
+//       --out_dir DIR [--proposal odometry|estimate] [--registration R] [--radius M]
+//       [--min_gap N] [--max_candidates N] [--lookalikes N] [--gate verdict|fitness|none]
+//       [--max_fitness F] [--reference FILE | --relations FILE]
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cstdio>
@@ -33,8 +42,11 @@
 #include <vector>
 
 #include "coral_introspection/coral/types.hpp"
+#include "coral_introspection/eval/carmen_log.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/incremental_loops.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
+#include "coral_introspection/eval/log_nodes.hpp"
 #include "coral_introspection/eval/loop_candidates.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
@@ -46,17 +58,26 @@ using namespace coral_introspection;
 namespace {
 
 constexpr const char* kUsage =
-    "usage: coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml] --keyframes DIR "
-    "--out_dir DIR [--registration gicp|ndt|icp (default gicp)] [--radius M (default 3)] "
-    "[--min_gap N (keyframes, default 50)] [--max_candidates N (default 60)] [--lookalikes N "
-    "(default 0)] [--gate verdict|fitness|none (default verdict)] [--max_fitness F (default "
-    "0.3, --gate fitness)] [--reference FILE (KITTI poses: ATE)]";
+    "usage: coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml] (--keyframes DIR | "
+    "--carmen LOG.clf[.bz2] [--keyframe_distance M (default 1)] [--keyframe_angle DEG (default "
+    "30)]) --out_dir DIR [--proposal odometry|estimate (default: odometry for --keyframes, "
+    "estimate for --carmen)] [--registration gicp|ndt|icp (3D, default gicp) | icp|point_to_line "
+    "(2D, default icp)] [--radius M (default 3)] [--min_gap N (keyframes, default 50; 30 for "
+    "--carmen)] [--max_candidates N (--proposal odometry, default 60)] [--lookalikes N (default "
+    "0)] [--gate verdict|fitness|none (default verdict)] [--max_fitness F (default 0.3, --gate "
+    "fitness)] [--reference FILE (KITTI poses: ATE) | --relations FILE (--carmen: benchmark "
+    "relation error)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_pose_graph", msg, kUsage); }
 
 // Keyframe odometry (lidar-inertial) is good to a few cm per keyframe; a registered loop edge
-// to about the tolerance's tenth (coral_loop_eval's settings).
+// to about the tolerance's tenth (coral_loop_eval's settings). A CARMEN log's wheel odometry:
+// eval::kLogOdometrySigmaT/R.
 constexpr double kOdomSigmaT = 0.05, kOdomSigmaR = 0.01;
+// How far (log lines) a relation's scan may lie from a keyframe to be measured through the raw
+// odometry between them (eval::LogNodes): keyframes 1 m apart are ~10 lines apart when moving;
+// a robot standing still adds lines, not keyframes, and its odometry does not drift there.
+constexpr int kAttachLines = 200;
 
 // The verdict and the reason only: a PairJudgement also holds the prepared pair (grids,
 // filtered clouds, a few MB per dense pair), which is not kept for every candidate.
@@ -65,6 +86,7 @@ struct Decided {
   coral::AlignmentVerdict v;  // --gate verdict only
   std::string reason;         // why there is no verdict (empty when v.valid)
   bool accepted = false;
+  bool asked_again = false;  // accepted when registered again from the pose the verdict offered
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // the loop edge when accepted
 };
 
@@ -72,24 +94,49 @@ struct Decided {
 
 int main(int argc, char** argv) {
   eval::ToolArgs args;
-  if (const auto exit =
-          eval::readCommandLine("coral_pose_graph", kUsage, argc, argv,
-                                {"--config", "--classifier", "--keyframes", "--out_dir",
-                                 "--registration", "--radius", "--min_gap", "--max_candidates",
-                                 "--lookalikes", "--gate", "--max_fitness", "--reference"},
-                                {}, &args))
+  if (const auto exit = eval::readCommandLine(
+          "coral_pose_graph", kUsage, argc, argv,
+          {"--config", "--classifier", "--keyframes", "--carmen", "--keyframe_distance",
+           "--keyframe_angle", "--out_dir", "--proposal", "--registration", "--radius", "--min_gap",
+           "--max_candidates", "--lookalikes", "--gate", "--max_fitness", "--reference",
+           "--relations", "--front_end"},
+          {"--no_ask_again"}, &args))
     return *exit;
   const std::string config = args.get("--config"), classifier = args.get("--classifier"),
-                    keyframes = args.get("--keyframes"), out_dir = args.get("--out_dir"),
-                    reference = args.get("--reference");
-  if (config.empty() || keyframes.empty() || out_dir.empty())
-    return fail("--config, --keyframes and --out_dir are required");
-  std::string err, gate;
-  if (!eval::choiceOption(args, "--gate", {"verdict", "fitness", "none"}, &gate, &err))
+                    keyframes = args.get("--keyframes"), carmen = args.get("--carmen"),
+                    out_dir = args.get("--out_dir"), reference = args.get("--reference"),
+                    relations_path = args.get("--relations");
+  if (config.empty() || keyframes.empty() == carmen.empty() || out_dir.empty())
+    return fail("--config, --out_dir and one of --keyframes or --carmen are required");
+  const std::string input = carmen.empty() ? keyframes : carmen;
+  if (carmen.empty() &&
+      (args.has("--keyframe_distance") || args.has("--keyframe_angle") || !relations_path.empty()))
+    return fail("--keyframe_distance, --keyframe_angle and --relations go with --carmen");
+  if (!carmen.empty() && !reference.empty())
+    return fail("--reference goes with --keyframes (a CARMEN log is measured by --relations)");
+  std::string err, gate, proposal, front_end;
+  if (!eval::choiceOption(args, "--gate", {"verdict", "fitness", "none"}, &gate, &err) ||
+      !eval::choiceOption(args, "--front_end", {"odometry", "scan_matching"}, &front_end, &err) ||
+      !eval::choiceOption(args, "--proposal",
+                          carmen.empty() ? std::vector<std::string>{"odometry", "estimate"}
+                                         : std::vector<std::string>{"estimate", "odometry"},
+                          &proposal, &err))
     return fail(err);
+  if (proposal == "estimate" && args.has("--max_candidates"))
+    return fail(
+        "--max_candidates goes with --proposal odometry (estimate proposes one "
+        "candidate per keyframe)");
   double max_fitness = 0.3;  // LIO-SAM's historyFitnessScoreThreshold
   if (!eval::numberOption(args, "--max_fitness", max_fitness, &max_fitness, &err)) return fail(err);
   if (!(max_fitness > 0.0)) return fail("--max_fitness must be > 0 (m^2)");
+  // gmapping's linearUpdate 1 m; its angularUpdate 0.5 rad, ~30 deg.
+  double keyframe_distance = 1.0, keyframe_angle_deg = 30.0;
+  if (!eval::numberOption(args, "--keyframe_distance", keyframe_distance, &keyframe_distance,
+                          &err) ||
+      !eval::numberOption(args, "--keyframe_angle", keyframe_angle_deg, &keyframe_angle_deg, &err))
+    return fail(err);
+  if (!(keyframe_distance > 0.0) || !(keyframe_angle_deg > 0.0))
+    return fail("--keyframe_distance and --keyframe_angle must be > 0 (m, deg)");
   // The preset, then the classifier file over it, key by key (as coral_check).
   std::vector<std::string> presets = {config};
   if (!classifier.empty()) presets.push_back(classifier);
@@ -98,14 +145,17 @@ int main(int argc, char** argv) {
   if (node.input_type != ros_adapters::InputType::kPointCloud)
     return fail(config + ": keyframes are point clouds; use a lidar preset");
   const int dim = node.online.coral.dimension;
+  if (!carmen.empty() && dim != 2)
+    return fail(config + ": a CARMEN log holds 2D laser scans; use a 2D preset (lidar_2d.yaml)");
   online::IntrospectorConfig loop = node.online;
   loop.verdict = coral::loopClosureVerdict(node.online.verdict);
 
-  // Candidates: the evaluation's keyframe settings (3 m, 50 keyframes, 60 revisits), changed by
-  // the options; no look-alike places unless asked for.
+  // Candidates: the evaluation's keyframe settings (3 m, 50 keyframes, 60 revisits; 30 keyframes
+  // of a log), changed by the options; no look-alike places unless asked for.
   eval::LoopCandidateConfig cand = eval::evaluationCandidates(3, node.online.verdict.tolerance);
   cand.dimension = dim;
   if (dim == 2) cand.registration = "icp";
+  if (!carmen.empty()) cand.min_index_gap = 30;
   cand.max_lookalike_pairs = 0;
   if (args.has("--registration")) cand.registration = args.get("--registration");
   if (!eval::numberOption(args, "--radius", cand.radius, &cand.radius, &err) ||
@@ -123,27 +173,48 @@ int main(int argc, char** argv) {
   // 1. Keyframes and their odometry.
   std::vector<eval::TrainingScan> scans;
   coral::Isometries odom, ref;
-  eval::KeyframeSequenceConfig seq;
-  seq.poses_file = "odom_poses.txt";
-  seq.planar_ok = dim == 2;  // a 2D preset reads PCDs with x and y only as planar scans
-  if (!eval::loadKeyframeSequence(keyframes, seq, nullptr, &scans, &odom, &err)) return fail(err);
-  if (scans.size() < 2) return fail(keyframes + ": fewer than two keyframes");
+  std::vector<eval::CarmenLaserScan> log;
+  std::vector<int> log_lines;  // --carmen: each keyframe's FLASER line
+  std::vector<eval::Relation> relations;
+  if (carmen.empty()) {
+    eval::KeyframeSequenceConfig seq;
+    seq.poses_file = "odom_poses.txt";
+    seq.planar_ok = dim == 2;  // a 2D preset reads PCDs with x and y only as planar scans
+    if (!eval::loadKeyframeSequence(keyframes, seq, nullptr, &scans, &odom, &err)) return fail(err);
+    if (scans.size() < 2) return fail(keyframes + ": fewer than two keyframes");
+  } else if (!eval::readCarmenLog(carmen, &log, &err) ||
+             !eval::logKeyframes(log, eval::LaserGeometry{}, keyframe_distance,
+                                 keyframe_angle_deg * M_PI / 180.0, &scans, &odom, &log_lines,
+                                 &err)) {
+    return fail(carmen + ": " + err);
+  }
   if (!reference.empty()) {
     if (!eval::readKittiPoses(reference, &ref, &err)) return fail(err);
     if (ref.size() < scans.size()) return fail(reference + ": fewer poses than keyframes");
     ref.resize(scans.size());
   }
+  if (!relations_path.empty() && !eval::readRelations(relations_path, &relations, &err))
+    return fail(err);
   // Written before the work, so that a wrong folder fails at once.
   const std::string csv_path = out_dir + "/candidates.csv";
   std::ofstream csv(csv_path);
   if (!csv) return fail("cannot write " + csv_path + " (does --out_dir exist?)");
 
-  // 2. Candidates, 3. the gate.
-  std::vector<eval::LoopCandidate> proposed;
-  if (!eval::proposeLoopCandidates(scans, odom, cand, &proposed, &err)) return fail(err);
-  std::vector<Decided> decided;
-  int accepted = 0;
-  for (const eval::LoopCandidate& c : proposed) {
+  // The front end: each step of the odometry registered and put to the stream verdict (the
+  // package's use for odometry); an accepted registration replaces the step.
+  int steps_matched = 0;
+  if (front_end == "scan_matching") {
+    auto stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d*) {
+      const online::PairJudgement j =
+          online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, node.online, false);
+      return j.verdict.valid && j.verdict.aligned;
+    };
+    odom = eval::scanMatchedOdometry(scans, odom, cand, stream, &steps_matched);
+  }
+
+  // 3. The gate, asked about one registered candidate.
+  const bool again = !args.has("--no_ask_again");
+  auto decide = [&](const eval::LoopCandidate& c) {
     Decided d;
     d.c = c;
     d.T_edge = c.T_a_b;
@@ -155,22 +226,72 @@ int main(int argc, char** argv) {
       d.accepted = d.v.valid && d.v.aligned;
       // Accepted registered from the pose: the verdict offers that pose (refined_transform).
       if (d.accepted && d.v.refined) d.T_edge = c.T_a_b * d.v.refinement.delta;
+      // Rejected with a pose offered (the walk on Q reached one that passes): what
+      // doc/loop_closure.md asks of a back end, register again from it and ask again, once. The
+      // offer alone is not a verdict (it exists for some poses a tolerance or two off).
+      if (!d.accepted && d.v.valid && d.v.refined && again) {
+        eval::LoopCandidate r = c;
+        eval::registerPair(scans[c.a].scan.points, scans[c.b].scan.points,
+                           c.T_a_b * d.v.refinement.delta, cand, &r);
+        const online::PairJudgement k =
+            online::judgePair(scans[c.a].scan, scans[c.b].scan, r.T_a_b, loop, false);
+        if (r.converged && k.verdict.valid && k.verdict.aligned) {
+          d.accepted = d.asked_again = true;
+          d.T_edge = k.verdict.refined ? r.T_a_b * k.verdict.refinement.delta : r.T_a_b;
+        }
+      }
     } else {
       d.accepted = gate == "none" || (c.converged && c.fitness <= max_fitness);
     }
-    accepted += d.accepted ? 1 : 0;
-    decided.push_back(d);
-  }
+    return d;
+  };
+  auto loopEdge = [](const Decided& d) {
+    return eval::PoseGraphEdge{d.c.a, d.c.b, d.T_edge, eval::kLoopEdgeSigmaT, eval::kLoopEdgeSigmaR,
+                               true};
+  };
 
-  // 4. The pose graph.
-  std::vector<eval::PoseGraphEdge> edges = eval::odometryEdges(odom, kOdomSigmaT, kOdomSigmaR);
+  // 2. Candidates and 3. their verdicts; 4. the pose graph.
+  const bool log_odometry = !carmen.empty();
+  const std::vector<eval::PoseGraphEdge> odom_edges =
+      eval::odometryEdges(odom, log_odometry ? eval::kLogOdometrySigmaT : kOdomSigmaT,
+                          log_odometry ? eval::kLogOdometrySigmaR : kOdomSigmaR);
+  const eval::PoseGraphConfig graph_cfg = eval::robustContinuationConfig(dim);
+  std::vector<Decided> decided;
+  eval::LoopCandidateConfig batch = cand;  // --proposal estimate: the look-alikes only
+  if (proposal == "estimate") batch.max_radius_candidates = 0;
+  std::vector<eval::LoopCandidate> proposed;
+  if (!eval::proposeLoopCandidates(scans, odom, batch, &proposed, &err)) return fail(err);
+  for (const eval::LoopCandidate& c : proposed) decided.push_back(decide(c));
+  std::vector<eval::PoseGraphEdge> loop_edges;
   for (const Decided& d : decided)
-    if (d.accepted)
-      edges.push_back({d.c.a, d.c.b, d.T_edge, eval::kLoopEdgeSigmaT, eval::kLoopEdgeSigmaR, true});
+    if (d.accepted) loop_edges.push_back(loopEdge(d));
   coral::Isometries poses = odom;
   eval::PoseGraphResult res;
-  if (!eval::optimizePoseGraph(edges, eval::robustContinuationConfig(dim), &poses, &res))
-    return fail("pose graph: " + res.error);
+  int solves = 1;
+  if (proposal == "estimate") {
+    eval::IncrementalLoops inc;
+    auto backEnd = [&](const eval::LoopCandidate& c, Eigen::Isometry3d* T_edge) {
+      decided.push_back(decide(c));
+      *T_edge = decided.back().T_edge;
+      return decided.back().accepted;
+    };
+    if (!eval::closeLoopsIncrementally(scans, odom, cand, odom_edges, loop_edges, graph_cfg,
+                                       backEnd, &poses, &inc, &err))
+      return fail("pose graph: " + err);
+    solves = inc.solves;
+    res = inc.last;
+  } else {
+    std::vector<eval::PoseGraphEdge> edges = odom_edges;
+    edges.insert(edges.end(), loop_edges.begin(), loop_edges.end());
+    if (!eval::optimizePoseGraph(edges, graph_cfg, &poses, &res))
+      return fail("pose graph: " + res.error);
+  }
+  int accepted = 0, revisits = 0;
+  for (const Decided& d : decided) {
+    accepted += d.accepted ? 1 : 0;
+    revisits += d.c.source == "radius" ? 1 : 0;
+  }
+
   std::vector<double> stamps;
   for (const eval::TrainingScan& s : scans) stamps.push_back(s.stamp);
   if (!eval::writeTumTrajectory(out_dir + "/trajectory.tum", stamps, poses, &err) ||
@@ -193,23 +314,37 @@ int main(int argc, char** argv) {
   }
   if (!csv.flush()) return fail("cannot write " + csv_path);
 
-  int revisits = 0;
-  for (const eval::LoopCandidate& c : proposed) revisits += c.source == "radius" ? 1 : 0;
   std::printf(
-      "%s: %zu keyframes; %zu loop candidates (%d within %.1f m of the odometry, %zu "
-      "look-alike registrations), %d accepted by gate %s\n",
-      keyframes.c_str(), scans.size(), proposed.size(), revisits, cand.radius,
-      proposed.size() - revisits, accepted, gate.c_str());
-  if (proposed.empty())
+      "%s: %zu keyframes; %zu loop candidates (%d within %.1f m of the %s, %zu look-alike "
+      "registrations), %d accepted by gate %s\n",
+      input.c_str(), scans.size(), decided.size(), revisits, cand.radius,
+      proposal == "estimate" ? "graph's estimate" : "odometry",
+      decided.size() - static_cast<std::size_t>(revisits), accepted, gate.c_str());
+  if (decided.empty())
     std::printf("no loop candidates: the trajectory is the odometry's (try a larger --radius)\n");
   std::printf(
-      "pose graph: %zu odometry and %d loop edges, Ceres %s; %s/trajectory.tum, .kitti, "
-      "candidates.csv written\n",
+      "pose graph: %zu odometry and %d loop edges, Ceres %s (%d solve%s); %s/trajectory.tum, "
+      ".kitti, candidates.csv written\n",
       scans.size() - 1, accepted, res.converged ? "converged" : "stopped at its iteration cap",
-      out_dir.c_str());
+      solves, solves == 1 ? "" : "s", out_dir.c_str());
+  if (front_end == "scan_matching")
+    std::printf(
+        "front end: %d of %zu odometry steps replaced by their registration (the stream "
+        "verdict accepted it)\n",
+        steps_matched, scans.size() - 1);
   if (!ref.empty())
     std::printf("ATE against %s: odometry %.3f m, graph %.3f m\n", reference.c_str(),
                 eval::absoluteTrajectoryError(odom, ref, dim),
                 eval::absoluteTrajectoryError(poses, ref, dim));
+  if (!relations.empty()) {
+    const eval::LogNodes nodes(log, log_lines);
+    const eval::RelationError o = eval::relationError(nodes, odom, relations, kAttachLines);
+    const eval::RelationError g = eval::relationError(nodes, poses, relations, kAttachLines);
+    std::printf(
+        "relation error against %s (%d of %zu relations): odometry %.3f m / %.2f deg, graph "
+        "%.3f m / %.2f deg\n",
+        relations_path.c_str(), g.n, relations.size(), o.translation, o.rotation_deg, g.translation,
+        g.rotation_deg);
+  }
   return 0;
 }

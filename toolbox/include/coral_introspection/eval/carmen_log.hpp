@@ -68,6 +68,15 @@ bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::strin
                        std::vector<TrainingScan>* scans, std::vector<ScanPair>* pairs,
                        std::string* error);
 
+// Keyframes of a log as a 2D SLAM front end takes them, with no reference: the first scan, then
+// every scan whose raw odometry moved at least min_distance [m] or turned at least min_angle
+// [rad] from the last keyframe (gmapping's linearUpdate / angularUpdate). Their points, their raw
+// odometry poses and their log lines, in log order. False with *error on an invalid geometry, a
+// non-positive distance or angle, or a log of fewer than two keyframes.
+bool logKeyframes(const std::vector<CarmenLaserScan>& log, const LaserGeometry& geometry,
+                  double min_distance, double min_angle, std::vector<TrainingScan>* scans,
+                  coral::Isometries* T_world_odom, std::vector<int>* raw_index, std::string* error);
+
 // A SLAM-corrected trajectory on the raw log
 // (../shared/data/radish_intel/*_corrected_poses_on_raw.csv: "corrected_idx, raw_flaser_idx,
 // raw_ipc_timestamp, x, y, theta", # comments): the scans it covers in log order, their corrected
