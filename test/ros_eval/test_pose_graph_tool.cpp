@@ -299,4 +299,21 @@ TEST(PoseGraphCarmen, OnTheAcesLogTheVerdictsGraphBeatsTheOdometryAndTheFitnessG
   EXPECT_LT(graph[0], 0.5 * odom[0]);  // the verdict's loop edges correct the drift
   EXPECT_GT(graph[1], odom[0]);        // the fitness gate's bend the map
   EXPECT_GT(graph[2], odom[0]);        // and so do all of them
+
+  // The scan-matching front end: odometry steps whose registration the stream verdict accepts
+  // replace the wheel odometry's, and the odometry alone comes closer to the relations.
+  const std::string out = emptyDir("pose_graph_aces_front_end");
+  const coral_test::ToolRun r = coral_test::runTool(
+      CORAL_POSE_GRAPH_EXE, common + " --out_dir " + out + " --front_end scan_matching");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::printf("%s", r.out.c_str());
+  int replaced = 0, steps = 0;
+  const std::size_t at = r.out.find("front end: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at, "front end: %d of %d", &replaced, &steps), 2);
+  EXPECT_GT(replaced, steps / 2);
+  EXPECT_LT(replaced, steps);  // some registrations are refused
+  double matched_odom = 0, matched_graph = 0;
+  ASSERT_TRUE(relationErrors(r.out, &matched_odom, &matched_graph)) << r.out;
+  EXPECT_LT(matched_odom, 0.9 * odom[0]);
 }

@@ -20,7 +20,8 @@
 //   3. each candidate asked the preset's loop verdict exactly as check_alignment with
 //      loop_closure answers it (online::judgePair with coral::loopClosureVerdict); --gate
 //      fitness instead accepts PCL's fitness score <= --max_fitness (LIO-SAM's 0.3), --gate
-//      none every candidate, for comparison;
+//      none every candidate, for comparison; --front_end scan_matching first replaces each odometry
+//      step by its registration where the stream verdict accepts it;
 //   4. a pose graph of the odometry edges and the accepted loop edges (the pose the verdict
 //      offers when it accepts a registered one, else the candidate's), optimised with Ceres
 //      (eval/pose_graph.hpp), written as OUT_DIR/trajectory.tum and trajectory.kitti, and every
@@ -32,7 +33,8 @@
 //       (--keyframes DIR | --carmen LOG [--keyframe_distance M] [--keyframe_angle DEG])
 //       --out_dir DIR [--proposal odometry|estimate] [--registration R] [--radius M]
 //       [--min_gap N] [--max_candidates N] [--lookalikes N] [--gate verdict|fitness|none]
-//       [--max_fitness F] [--reference FILE | --relations FILE]
+//       [--max_fitness F] [--front_end odometry|scan_matching]
+//       [--reference FILE | --relations FILE]
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cstdio>
@@ -86,7 +88,6 @@ struct Decided {
   coral::AlignmentVerdict v;  // --gate verdict only
   std::string reason;         // why there is no verdict (empty when v.valid)
   bool accepted = false;
-  bool asked_again = false;  // accepted when registered again from the pose the verdict offered
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // the loop edge when accepted
 };
 
@@ -100,7 +101,7 @@ int main(int argc, char** argv) {
            "--keyframe_angle", "--out_dir", "--proposal", "--registration", "--radius", "--min_gap",
            "--max_candidates", "--lookalikes", "--gate", "--max_fitness", "--reference",
            "--relations", "--front_end"},
-          {"--no_ask_again"}, &args))
+          {}, &args))
     return *exit;
   const std::string config = args.get("--config"), classifier = args.get("--classifier"),
                     keyframes = args.get("--keyframes"), carmen = args.get("--carmen"),
@@ -213,7 +214,6 @@ int main(int argc, char** argv) {
   }
 
   // 3. The gate, asked about one registered candidate.
-  const bool again = !args.has("--no_ask_again");
   auto decide = [&](const eval::LoopCandidate& c) {
     Decided d;
     d.c = c;
@@ -226,20 +226,6 @@ int main(int argc, char** argv) {
       d.accepted = d.v.valid && d.v.aligned;
       // Accepted registered from the pose: the verdict offers that pose (refined_transform).
       if (d.accepted && d.v.refined) d.T_edge = c.T_a_b * d.v.refinement.delta;
-      // Rejected with a pose offered (the walk on Q reached one that passes): what
-      // doc/loop_closure.md asks of a back end, register again from it and ask again, once. The
-      // offer alone is not a verdict (it exists for some poses a tolerance or two off).
-      if (!d.accepted && d.v.valid && d.v.refined && again) {
-        eval::LoopCandidate r = c;
-        eval::registerPair(scans[c.a].scan.points, scans[c.b].scan.points,
-                           c.T_a_b * d.v.refinement.delta, cand, &r);
-        const online::PairJudgement k =
-            online::judgePair(scans[c.a].scan, scans[c.b].scan, r.T_a_b, loop, false);
-        if (r.converged && k.verdict.valid && k.verdict.aligned) {
-          d.accepted = d.asked_again = true;
-          d.T_edge = k.verdict.refined ? r.T_a_b * k.verdict.refinement.delta : r.T_a_b;
-        }
-      }
     } else {
       d.accepted = gate == "none" || (c.converged && c.fitness <= max_fitness);
     }
