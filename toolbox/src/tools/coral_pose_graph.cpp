@@ -13,10 +13,10 @@
 //      there. --proposal odometry (keyframes' default): every such pair of the odometry, at
 //      most --max_candidates (eval::proposeLoopCandidates); --proposal estimate (CARMEN's
 //      default: wheel odometry drifts by metres between revisits): keyframe by keyframe, the
-//      nearest one in the graph's current estimate, the graph optimised after each accepted
-//      edge (eval::closeLoopsIncrementally, LIO-SAM's loop thread). With --lookalikes N, also
-//      N pairs far apart in the odometry registered from four headings (what a place
-//      recognizer's false matches hand over);
+//      nearest one in the graph's current estimate, the graph optimised again after an accepted
+//      edge it disagrees with (eval::closeLoopsIncrementally, LIO-SAM's loop thread). With
+//      --lookalikes N, also N pairs far apart in the odometry registered from four headings (what a
+//      place recognizer's false matches hand over);
 //   3. each candidate asked the preset's loop verdict exactly as check_alignment with
 //      loop_closure answers it (online::judgePair with coral::loopClosureVerdict); --gate
 //      fitness instead accepts PCL's fitness score <= --max_fitness (LIO-SAM's 0.3), --gate
@@ -31,10 +31,9 @@
 // error of both (Kuemmerle et al. 2009, eval/log_nodes.hpp).
 //   rosrun coral_introspection coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml]
 //       (--keyframes DIR | --carmen LOG [--keyframe_distance M] [--keyframe_angle DEG])
-//       --out_dir DIR [--proposal odometry|estimate] [--registration R] [--radius M]
-//       [--min_gap N] [--max_candidates N] [--lookalikes N] [--gate verdict|fitness|none]
-//       [--max_fitness F] [--front_end odometry|scan_matching]
-//       [--reference FILE | --relations FILE]
+//       --out_dir DIR [--front_end odometry|scan_matching] [--proposal odometry|estimate]
+//       [--registration R] [--radius M] [--min_gap N] [--max_candidates N] [--lookalikes N]
+//       [--gate verdict|fitness|none] [--max_fitness F] [--reference FILE | --relations FILE]
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cstdio>
@@ -62,11 +61,12 @@ namespace {
 constexpr const char* kUsage =
     "usage: coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml] (--keyframes DIR | "
     "--carmen LOG.clf[.bz2] [--keyframe_distance M (default 1)] [--keyframe_angle DEG (default "
-    "30)]) --out_dir DIR [--proposal odometry|estimate (default: odometry for --keyframes, "
-    "estimate for --carmen)] [--registration gicp|ndt|icp (3D, default gicp) | icp|point_to_line "
-    "(2D, default icp)] [--radius M (default 3)] [--min_gap N (keyframes, default 50; 30 for "
-    "--carmen)] [--max_candidates N (--proposal odometry, default 60)] [--lookalikes N (default "
-    "0)] [--gate verdict|fitness|none (default verdict)] [--max_fitness F (default 0.3, --gate "
+    "30)]) --out_dir DIR [--front_end odometry|scan_matching (default odometry)] [--proposal "
+    "odometry|estimate (default: odometry for --keyframes, estimate for --carmen)] "
+    "[--registration gicp|ndt|icp (3D, default gicp) | icp|point_to_line (2D, default icp)] "
+    "[--radius M (default 3)] [--min_gap N (keyframes, default 50; 30 for --carmen)] "
+    "[--max_candidates N (--proposal odometry, default 60)] [--lookalikes N (default 0)] "
+    "[--gate verdict|fitness|none (default verdict)] [--max_fitness F (default 0.3, --gate "
     "fitness)] [--reference FILE (KITTI poses: ATE) | --relations FILE (--carmen: benchmark "
     "relation error)]";
 
