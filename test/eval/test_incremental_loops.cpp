@@ -3,8 +3,8 @@
 // estimate, the second lap's revisits are found and close the loop (with an oracle as the back
 // end's decision), where a radius around the raw odometry finds fewer of them (31 of 38 keyframes
 // at 0.012 rad per step; at 0.02 rad the revisits start outside ICP's reach and neither finds
-// any); a decision that
-// accepts nothing leaves the odometry as it is; seeds enter the graph once both ends exist.
+// any); a decision that accepts nothing leaves the odometry as it is; seeds enter the graph once
+// both ends exist.
 #include <gtest/gtest.h>
 
 #include <cmath>

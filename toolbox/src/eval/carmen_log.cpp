@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
@@ -191,11 +192,17 @@ bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::strin
 }
 
 namespace {
-Eigen::Isometry3d planar(double x, double y, double theta) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = coral::Vec3(x, y, 0.0);
-  T.linear() = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return T;
+// Log line `line` as a graph node: its scan (valid readings), its raw odometry pose and the line.
+void appendLogScan(const std::vector<CarmenLaserScan>& log, std::size_t line,
+                   const LaserGeometry& geometry, std::vector<TrainingScan>* scans,
+                   coral::Isometries* T_world_odom, std::vector<int>* raw_index) {
+  const CarmenLaserScan& l = log[line];
+  TrainingScan t;
+  t.stamp = l.stamp;
+  t.scan.points = laserPoints(l, geometry);
+  scans->push_back(std::move(t));
+  T_world_odom->push_back(coral::se2(l.laser_pose.x(), l.laser_pose.y(), l.laser_pose.z()));
+  raw_index->push_back(static_cast<int>(line));
 }
 }  // namespace
 
@@ -216,12 +223,7 @@ bool logKeyframes(const std::vector<CarmenLaserScan>& log, const LaserGeometry& 
       const double turned = std::abs(std::remainder(p.z() - last.z(), 2.0 * M_PI));
       if ((p.head<2>() - last.head<2>()).norm() < min_distance && turned < min_angle) continue;
     }
-    TrainingScan t;
-    t.stamp = log[l].stamp;
-    t.scan.points = laserPoints(log[l], geometry);
-    scans->push_back(std::move(t));
-    T_world_odom->push_back(planar(p.x(), p.y(), p.z()));
-    raw_index->push_back(static_cast<int>(l));
+    appendLogScan(log, l, geometry, scans, T_world_odom, raw_index);
   }
   if (scans->size() < 2)
     return coral::fail(error, "fewer than two keyframes (" + std::to_string(log.size()) +
@@ -253,14 +255,8 @@ bool correctedSequence(const std::vector<CarmenLaserScan>& log, const std::strin
       return coral::fail(error, corrected_csv + ":" + std::to_string(n) + ": FLASER index " +
                                     std::to_string(raw) + " outside the log (" +
                                     std::to_string(log.size()) + " scans)");
-    const CarmenLaserScan& l = log[static_cast<std::size_t>(raw)];
-    TrainingScan t;
-    t.stamp = l.stamp;
-    t.scan.points = laserPoints(l, geometry);
-    scans->push_back(std::move(t));
-    T_world_ref->push_back(planar(x, y, theta));
-    T_world_odom->push_back(planar(l.laser_pose.x(), l.laser_pose.y(), l.laser_pose.z()));
-    raw_index->push_back(static_cast<int>(raw));
+    appendLogScan(log, static_cast<std::size_t>(raw), geometry, scans, T_world_odom, raw_index);
+    T_world_ref->push_back(coral::se2(x, y, theta));
   }
   if (scans->empty()) return coral::fail(error, corrected_csv + ": no poses");
   return true;
