@@ -74,6 +74,15 @@ TEST(LoopCandidates, AScanWithTooFewPointsIsNotRegistered) {
   EXPECT_LT(c.fitness, std::numeric_limits<double>::max());
 }
 
+// The CSVs write a scan that was not registered as "inf", not as 1.79769e+308.
+TEST(LoopCandidates, FitnessCellWritesNoCorrespondenceAsInf) {
+  EXPECT_EQ(eval::fitnessCell(std::numeric_limits<double>::max()), "inf");
+  EXPECT_EQ(eval::fitnessCell(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(eval::fitnessCell(std::nan("")), "inf");
+  EXPECT_EQ(eval::fitnessCell(0.0314159), "0.0314159");
+  EXPECT_EQ(eval::fitnessCell(0.0), "0");
+}
+
 TEST(LoopCandidates, PointToLineStaysPlanar) {
   Eigen::Isometry3d T_true;
   const eval::LoopCandidate c =

@@ -34,7 +34,7 @@ bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
                              const std::vector<PoseGraphEdge>& odometry,
                              const std::vector<PoseGraphEdge>& seeds, const PoseGraphConfig& graph,
                              const LoopDecision& decide, coral::Isometries* poses,
-                             IncrementalLoops* out, std::string* error) {
+                             IncrementalLoops* out, std::string* error, const EdgeCheck& admit) {
   if (const std::string e = cfg.validate(); !e.empty()) return coral::fail(error, e);
   if (const std::string e = graph.validate(); !e.empty()) return coral::fail(error, e);
   const int n = static_cast<int>(scans.size());
@@ -50,6 +50,10 @@ bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
     for (std::size_t s = 0; s < seeds.size(); ++s)
       if (!seeded[s] && std::max(seeds[s].from, seeds[s].to) == i) {
         seeded[s] = 1;
+        if (admit && !admit(seeds[s], static_cast<int>(s))) {
+          ++out->refused;
+          continue;
+        }
         edges.push_back(seeds[s]);
         out->loop_edges.push_back(seeds[s]);
         changed = true;
@@ -69,8 +73,12 @@ bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
       registerPair(scans[best].scan.points, scans[i].scan.points, est[best].inverse() * est[i], cfg,
                    &c);
       Eigen::Isometry3d T_edge = c.T_a_b;
-      if (decide(c, &T_edge)) {
-        PoseGraphEdge e{c.a, c.b, T_edge, kLoopEdgeSigmaT, kLoopEdgeSigmaR, true};
+      PoseGraphEdge e{c.a, c.b, T_edge, kLoopEdgeSigmaT, kLoopEdgeSigmaR, true};
+      const bool accepted = decide(c, &T_edge);
+      e.T_from_to = T_edge;
+      if (accepted && admit && !admit(e, -1)) {
+        ++out->refused;
+      } else if (accepted) {
         edges.push_back(e);
         out->loop_edges.push_back(e);
         // An edge the estimate already agrees with (within half a tolerance) waits for the

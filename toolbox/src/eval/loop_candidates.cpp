@@ -16,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <sstream>
 
 #include "coral_introspection/coral/validation.hpp"
 
@@ -157,6 +158,13 @@ void relativeError(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T_re
   const Eigen::Isometry3d d = T_ref.inverse() * T_a_b;
   *t = d.translation().norm();
   *r_deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
+}
+
+std::string fitnessCell(double fitness) {
+  if (!(fitness < std::numeric_limits<double>::max())) return "inf";
+  std::ostringstream out;
+  out << fitness;
+  return out.str();
 }
 
 void registerPair(const coral::Points& a, const coral::Points& b, const Eigen::Isometry3d& T_init,

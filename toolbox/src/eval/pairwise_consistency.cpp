@@ -109,10 +109,12 @@ std::vector<int> greedyLargestClique(BitGraph& g, int max_starts) {
   return best;
 }
 
+// pairwise: PCM's test of every two loop edges and the largest consistent set; otherwise each
+// loop edge against the odometry alone (the pair test with an identity edge at its end).
 template <int N>
 bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
-                       const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
-                       std::string* error) {
+                       const PairwiseConsistencyConfig& cfg, bool pairwise,
+                       std::vector<int>* rejected, std::string* error) {
   using TS = Tangent<N>;
   using Mat = typename TS::Mat;
   // The odometry chain: poses P_k (P_0 = I) and prefix sums G_k = sum_{m<k} Ad_{P_(m+1)}
@@ -157,35 +159,49 @@ bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
     cov[x] = TS::covariance(e.sigma_translation, e.sigma_rotation);
     inverse_cov[x] = Ad * cov[x] * Ad.transpose();
   }
+  // The squared Mahalanobis distance of the cycle closed by loop edge a (index x) and b (index y,
+  // covariance of b's inverse inverse_cov_b).
+  auto distance2 = [&](const PoseGraphEdge& a, int x, const PoseGraphEdge& b,
+                       const Mat& inverse_cov_b) {
+    // The cycle i -Za-> k -odom-> l -Zb^-1-> j -odom-> i of loops a (i -> k) and b (j -> l):
+    // E = A B C D = identity when both are right. First order: E Exp(Ad_(BCD)^-1 a +
+    // Ad_(CD)^-1 b + Ad_D^-1 c + d), b and d the odometry segments' noise.
+    const int i = a.from, k = a.to, j = b.from, l = b.to;
+    const Eigen::Isometry3d B = P[k].inverse() * P[l], D = P[j].inverse() * P[i];
+    const Eigen::Isometry3d C = b.T_from_to.inverse(), CD = C * D, BCD = B * CD;
+    const Mat A1 = TS::adjoint(BCD.inverse()), A3 = TS::adjoint(D.inverse());
+    Mat S = A1 * cov[x] * A1.transpose() + A3 * inverse_cov_b * A3.transpose();
+    // Odometry step m's noise n_m in a segment from u to v, moved to the segment's end, is
+    // +-Ad_(P_v^-1) Ad_(P_(m+1)) n_m (+ forward, - when the segment runs back along the
+    // chain), then moved past the rest of the cycle. Steps both segments run over (nested
+    // loops) enter twice, correlated: their matrices are summed before the covariance.
+    const Mat MB = (k <= l ? 1.0 : -1.0) * TS::adjoint(CD.inverse()) * ad_inv[l];
+    const Mat MD = (j <= i ? 1.0 : -1.0) * ad_inv[i];
+    const int b0 = std::min(k, l), b1 = std::max(k, l), d0 = std::min(j, i), d1 = std::max(j, i);
+    const int o0 = std::max(b0, d0), o1 = std::max(o0, std::min(b1, d1));  // shared steps
+    const Mat Go = G[o1] - G[o0];
+    S += MB * (G[b1] - G[b0] - Go) * MB.transpose() + MD * (G[d1] - G[d0] - Go) * MD.transpose() +
+         (MB + MD) * Go * (MB + MD).transpose();
+    const typename TS::Vec e = TS::error(a.T_from_to * BCD);
+    return e.dot(S.ldlt().solve(e));
+  };
+  if (!pairwise) {
+    // b: the identity at a's end (k -> k, no noise): the cycle is a against the odometry's
+    // segment from i to k.
+    for (int x = 0; x < n; ++x) {
+      const PoseGraphEdge& a = edges[loops[x]];
+      const PoseGraphEdge at_end{a.to, a.to, Eigen::Isometry3d::Identity(), 0.0, 0.0, true};
+      const double d2 = distance2(a, x, at_end, Mat::Zero());
+      if (!(std::isfinite(d2) && d2 <= bound)) rejected->push_back(loops[x]);
+    }
+    return true;
+  }
   BitGraph g(n);
-  for (int x = 0; x < n; ++x) {
-    const PoseGraphEdge& a = edges[loops[x]];
+  for (int x = 0; x < n; ++x)
     for (int y = x + 1; y < n; ++y) {
-      const PoseGraphEdge& b = edges[loops[y]];
-      // The cycle i -Za-> k -odom-> l -Zb^-1-> j -odom-> i of loops a (i -> k) and b (j -> l):
-      // E = A B C D = identity when both are right. First order: E Exp(Ad_(BCD)^-1 a +
-      // Ad_(CD)^-1 b + Ad_D^-1 c + d), b and d the odometry segments' noise.
-      const int i = a.from, k = a.to, j = b.from, l = b.to;
-      const Eigen::Isometry3d B = P[k].inverse() * P[l], D = P[j].inverse() * P[i];
-      const Eigen::Isometry3d C = b.T_from_to.inverse(), CD = C * D, BCD = B * CD;
-      const Mat A1 = TS::adjoint(BCD.inverse()), A3 = TS::adjoint(D.inverse());
-      Mat S = A1 * cov[x] * A1.transpose() + A3 * inverse_cov[y] * A3.transpose();
-      // Odometry step m's noise n_m in a segment from u to v, moved to the segment's end, is
-      // +-Ad_(P_v^-1) Ad_(P_(m+1)) n_m (+ forward, - when the segment runs back along the
-      // chain), then moved past the rest of the cycle. Steps both segments run over (nested
-      // loops) enter twice, correlated: their matrices are summed before the covariance.
-      const Mat MB = (k <= l ? 1.0 : -1.0) * TS::adjoint(CD.inverse()) * ad_inv[l];
-      const Mat MD = (j <= i ? 1.0 : -1.0) * ad_inv[i];
-      const int b0 = std::min(k, l), b1 = std::max(k, l), d0 = std::min(j, i), d1 = std::max(j, i);
-      const int o0 = std::max(b0, d0), o1 = std::max(o0, std::min(b1, d1));  // shared steps
-      const Mat Go = G[o1] - G[o0];
-      S += MB * (G[b1] - G[b0] - Go) * MB.transpose() + MD * (G[d1] - G[d0] - Go) * MD.transpose() +
-           (MB + MD) * Go * (MB + MD).transpose();
-      const typename TS::Vec e = TS::error(a.T_from_to * BCD);
-      const double d2 = e.dot(S.ldlt().solve(e));
+      const double d2 = distance2(edges[loops[x]], x, edges[loops[y]], inverse_cov[y]);
       if (std::isfinite(d2) && d2 <= bound) g.link(x, y);
     }
-  }
   std::vector<bool> kept(n, false);
   for (int x : greedyLargestClique(g, cfg.max_starts)) kept[x] = true;
   for (int x = 0; x < n; ++x)
@@ -211,8 +227,19 @@ bool pairwiseInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
     return coral::fail(error, "pairwise consistency: " + problems);
   if (!rejected) return coral::fail(error, "pairwise consistency: no output");
   rejected->clear();
-  return cfg.dimension == 2 ? inconsistentLoops<3>(edges, cfg, rejected, error)
-                            : inconsistentLoops<6>(edges, cfg, rejected, error);
+  return cfg.dimension == 2 ? inconsistentLoops<3>(edges, cfg, true, rejected, error)
+                            : inconsistentLoops<6>(edges, cfg, true, rejected, error);
+}
+
+bool odometryInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
+                               const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
+                               std::string* error) {
+  if (const std::string problems = cfg.validate(); !problems.empty())
+    return coral::fail(error, "odometry consistency: " + problems);
+  if (!rejected) return coral::fail(error, "odometry consistency: no output");
+  rejected->clear();
+  return cfg.dimension == 2 ? inconsistentLoops<3>(edges, cfg, false, rejected, error)
+                            : inconsistentLoops<6>(edges, cfg, false, rejected, error);
 }
 
 std::vector<PoseGraphEdge> keptEdges(const std::vector<PoseGraphEdge>& edges,

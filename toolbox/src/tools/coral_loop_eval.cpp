@@ -346,9 +346,9 @@ int main(int argc, char** argv) {
       const coral::AlignmentVerdict& v = j->v;
       out << c.a << ',' << c.b << ',' << c.source << ',' << c.init_yaw_deg << ',' << c.is_true
           << ',' << c.error_translation << ',' << c.error_rotation_deg << ',' << c.converged << ','
-          << c.fitness << ',' << v.valid << ',' << v.classifier.probability << ','
-          << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality << ','
-          << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
+          << eval::fitnessCell(c.fitness) << ',' << v.valid << ',' << v.classifier.probability
+          << ',' << v.relative.score << ',' << v.relative.misaligned << ',' << v.coral.quality
+          << ',' << v.coral.h_joint << ',' << v.coral.h_sep << ',' << v.coral.overlap << ','
           << v.relative.flat_axes.size() << ',' << v.free_space.conflict << ','
           << v.constraint.weakest << ',' << (j->has_refined ? j->v_refined.refinement.size : 0.0)
           << ','

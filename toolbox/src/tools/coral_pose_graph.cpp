@@ -26,6 +26,12 @@
 //      offers when it accepts a registered one, else the candidate's), optimised with Ceres
 //      (eval/pose_graph.hpp), written as OUT_DIR/trajectory.tum and trajectory.kitti, and every
 //      candidate with its verdict as OUT_DIR/candidates.csv.
+// With --pcm PROBABILITY the back end then keeps only the largest set of pairwise consistent loop
+// edges (PCM, Mangelson et al. 2018: each two close a cycle with the odometry that must return
+// to its start within the chi-square bound of that probability; eval/pairwise_consistency.hpp)
+// and solves the graph again from the odometry without the others: a check of the edges
+// against each other and the odometry, which catches an edge the gate let through where the
+// odometry is as good as its sigmas (not on Intel's wheel odometry: doc/loop_closure.md).
 // With --reference FILE (KITTI layout, one pose per keyframe) it also prints the ATE of the
 // odometry and of the graph against it; with --relations FILE (CARMEN) the benchmark's relation
 // error of both (Kuemmerle et al. 2009, eval/log_nodes.hpp).
@@ -33,7 +39,8 @@
 //       (--keyframes DIR | --carmen LOG [--keyframe_distance M] [--keyframe_angle DEG])
 //       --out_dir DIR [--front_end odometry|scan_matching] [--proposal odometry|estimate]
 //       [--registration R] [--radius M] [--min_gap N] [--max_candidates N] [--lookalikes N]
-//       [--gate verdict|fitness|none] [--max_fitness F] [--reference FILE | --relations FILE]
+//       [--gate verdict|fitness|none] [--max_fitness F] [--pcm PROBABILITY]
+//       [--reference FILE | --relations FILE]
 // Exit 0 on success, 2 with a message for bad arguments or unreadable data.
 #include <algorithm>
 #include <cstdio>
@@ -49,6 +56,7 @@
 #include "coral_introspection/eval/keyframe_sequence.hpp"
 #include "coral_introspection/eval/log_nodes.hpp"
 #include "coral_introspection/eval/loop_candidates.hpp"
+#include "coral_introspection/eval/pairwise_consistency.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
@@ -67,7 +75,8 @@ constexpr const char* kUsage =
     "[--radius M (default 3)] [--min_gap N (keyframes, default 50; 30 for --carmen)] "
     "[--max_candidates N (--proposal odometry, default 60)] [--lookalikes N (default 0)] "
     "[--gate verdict|fitness|none (default verdict)] [--max_fitness F (default 0.3, --gate "
-    "fitness)] [--reference FILE (KITTI poses: ATE) | --relations FILE (--carmen: benchmark "
+    "fitness)] [--pcm PROBABILITY (e.g. 0.99; default off)] [--reference FILE (KITTI poses: ATE) | "
+    "--relations FILE (--carmen: benchmark "
     "relation error)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_pose_graph", msg, kUsage); }
@@ -88,6 +97,7 @@ struct Decided {
   coral::AlignmentVerdict v;  // --gate verdict only
   std::string reason;         // why there is no verdict (empty when v.valid)
   bool accepted = false;
+  bool inconsistent = false;                                 // accepted, then left out by --pcm
   Eigen::Isometry3d T_edge = Eigen::Isometry3d::Identity();  // the loop edge when accepted
 };
 
@@ -100,7 +110,7 @@ int main(int argc, char** argv) {
           {"--config", "--classifier", "--keyframes", "--carmen", "--keyframe_distance",
            "--keyframe_angle", "--out_dir", "--proposal", "--registration", "--radius", "--min_gap",
            "--max_candidates", "--lookalikes", "--gate", "--max_fitness", "--reference",
-           "--relations", "--front_end"},
+           "--relations", "--front_end", "--pcm"},
           {}, &args))
     return *exit;
   const std::string config = args.get("--config"), classifier = args.get("--classifier"),
@@ -130,6 +140,10 @@ int main(int argc, char** argv) {
   double max_fitness = 0.3;  // LIO-SAM's historyFitnessScoreThreshold
   if (!eval::numberOption(args, "--max_fitness", max_fitness, &max_fitness, &err)) return fail(err);
   if (!(max_fitness > 0.0)) return fail("--max_fitness must be > 0 (m^2)");
+  eval::PairwiseConsistencyConfig pcm;
+  const bool use_pcm = args.has("--pcm");
+  if (!eval::numberOption(args, "--pcm", pcm.probability, &pcm.probability, &err)) return fail(err);
+  if (const std::string e = pcm.validate(); use_pcm && !e.empty()) return fail("--pcm: " + e);
   // gmapping's linearUpdate 1 m; its angularUpdate 0.5 rad, ~30 deg.
   double keyframe_distance = 1.0, keyframe_angle_deg = 30.0;
   if (!eval::numberOption(args, "--keyframe_distance", keyframe_distance, &keyframe_distance,
@@ -249,8 +263,24 @@ int main(int argc, char** argv) {
   if (!eval::proposeLoopCandidates(scans, odom, batch, &proposed, &err)) return fail(err);
   for (const eval::LoopCandidate& c : proposed) decided.push_back(decide(c));
   std::vector<eval::PoseGraphEdge> loop_edges;
-  for (const Decided& d : decided)
-    if (d.accepted) loop_edges.push_back(loopEdge(d));
+  std::vector<std::size_t> seed_owner;  // loop_edges[s] is decided[seed_owner[s]]'s
+  for (std::size_t i = 0; i < decided.size(); ++i)
+    if (decided[i].accepted) {
+      loop_edges.push_back(loopEdge(decided[i]));
+      seed_owner.push_back(i);
+    }
+  // --pcm, first part: a loop edge enters the graph only when it agrees with the odometry between
+  // its ends (eval::odometryInconsistentLoops); in estimate mode before it can bend the estimate
+  // that later proposals start from.
+  if (use_pcm) pcm.dimension = dim;
+  std::string check_error;
+  auto odometryConsistent = [&](const eval::PoseGraphEdge& e) {
+    std::vector<eval::PoseGraphEdge> edges = odom_edges;
+    edges.push_back(e);
+    std::vector<int> off;
+    if (!eval::odometryInconsistentLoops(edges, pcm, &off, &check_error)) return false;
+    return off.empty();
+  };
   coral::Isometries poses = odom;
   eval::PoseGraphResult res;
   int solves = 1;
@@ -261,17 +291,54 @@ int main(int argc, char** argv) {
       *T_edge = decided.back().T_edge;
       return decided.back().accepted;
     };
+    auto admit = [&](const eval::PoseGraphEdge& e, int seed) {
+      const bool ok = odometryConsistent(e);
+      decided[seed < 0 ? decided.size() - 1 : seed_owner[seed]].inconsistent = !ok;
+      return ok;
+    };
     if (!eval::closeLoopsIncrementally(scans, odom, cand, odom_edges, loop_edges, graph_cfg,
-                                       backEnd, &poses, &inc, &err))
+                                       backEnd, &poses, &inc, &err,
+                                       use_pcm ? eval::EdgeCheck(admit) : eval::EdgeCheck()))
       return fail("pose graph: " + err);
+    if (!check_error.empty()) return fail(check_error);
     solves = inc.solves;
     res = inc.last;
   } else {
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
-    edges.insert(edges.end(), loop_edges.begin(), loop_edges.end());
+    for (std::size_t s = 0; s < loop_edges.size(); ++s) {
+      decided[seed_owner[s]].inconsistent = use_pcm && !odometryConsistent(loop_edges[s]);
+      if (!decided[seed_owner[s]].inconsistent) edges.push_back(loop_edges[s]);
+    }
+    if (!check_error.empty()) return fail(check_error);
     if (!eval::optimizePoseGraph(edges, graph_cfg, &poses, &res))
       return fail("pose graph: " + res.error);
   }
+  // 5. --pcm, second part: the loop edges in the graph checked against each other (PCM's largest
+  // pairwise consistent set); when some are left out, the graph is solved again without them,
+  // from the odometry.
+  int odometry_out = 0, pairwise_out = 0;
+  if (use_pcm) {
+    std::vector<eval::PoseGraphEdge> edges = odom_edges;
+    std::vector<std::size_t> owner;  // edges[odom_edges.size() + i] is decided[owner[i]]'s
+    for (std::size_t i = 0; i < decided.size(); ++i) {
+      odometry_out += decided[i].inconsistent ? 1 : 0;
+      if (decided[i].accepted && !decided[i].inconsistent) {
+        edges.push_back(loopEdge(decided[i]));
+        owner.push_back(i);
+      }
+    }
+    std::vector<int> removed;
+    if (!eval::pairwiseInconsistentLoops(edges, pcm, &removed, &err)) return fail(err);
+    for (const int r : removed) decided[owner[r - odom_edges.size()]].inconsistent = true;
+    pairwise_out = static_cast<int>(removed.size());
+    if (!removed.empty()) {
+      poses = odom;
+      if (!eval::optimizePoseGraph(eval::keptEdges(edges, removed), graph_cfg, &poses, &res))
+        return fail("pose graph (pcm): " + res.error);
+      ++solves;
+    }
+  }
+  const int left_out = odometry_out + pairwise_out;
   int accepted = 0, revisits = 0;
   for (const Decided& d : decided) {
     accepted += d.accepted ? 1 : 0;
@@ -284,7 +351,7 @@ int main(int argc, char** argv) {
       !eval::writeKittiPoses(out_dir + "/trajectory.kitti", poses, &err))
     return fail(err);
   csv << "a,b,source,init_yaw_deg,fitness,converged,accepted,rejected_by,reason,refined,x,y,z,"
-         "yaw_deg\n";
+         "yaw_deg,pcm_inconsistent\n";
   auto field = [](std::string text) {  // a sentence as one CSV cell
     for (char& ch : text) ch = ch == ',' || ch == '\n' ? ';' : ch;
     return text;
@@ -293,10 +360,10 @@ int main(int argc, char** argv) {
     const coral::AlignmentVerdict& v = d.v;
     const Eigen::Vector3d t = d.c.T_a_b.translation();
     csv << d.c.a << ',' << d.c.b << ',' << d.c.source << ',' << d.c.init_yaw_deg << ','
-        << d.c.fitness << ',' << d.c.converged << ',' << d.accepted << ',' << field(v.rejected_by)
-        << ',' << field(d.reason) << ',' << (d.accepted && v.refined) << ',' << t.x() << ','
-        << t.y() << ',' << t.z() << ',' << coral::yawOf(d.c.T_a_b.rotation()) * 180.0 / M_PI
-        << '\n';
+        << eval::fitnessCell(d.c.fitness) << ',' << d.c.converged << ',' << d.accepted << ','
+        << field(v.rejected_by) << ',' << field(d.reason) << ',' << (d.accepted && v.refined) << ','
+        << t.x() << ',' << t.y() << ',' << t.z() << ','
+        << coral::yawOf(d.c.T_a_b.rotation()) * 180.0 / M_PI << ',' << d.inconsistent << '\n';
   }
   if (!csv.flush()) return fail("cannot write " + csv_path);
 
@@ -311,8 +378,15 @@ int main(int argc, char** argv) {
   std::printf(
       "pose graph: %zu odometry and %d loop edges, Ceres %s (%d solve%s); %s/trajectory.tum, "
       ".kitti, candidates.csv written\n",
-      scans.size() - 1, accepted, res.converged ? "converged" : "stopped at its iteration cap",
-      solves, solves == 1 ? "" : "s", out_dir.c_str());
+      scans.size() - 1, accepted - left_out,
+      res.converged ? "converged" : "stopped at its iteration cap", solves, solves == 1 ? "" : "s",
+      out_dir.c_str());
+  if (use_pcm)
+    std::printf(
+        "pcm (chi-square %.3g): of %d accepted loop edges, %d left out as they disagree with the "
+        "odometry between their ends, %d more as they are not in the largest pairwise "
+        "consistent set\n",
+        pcm.probability, accepted, odometry_out, pairwise_out);
   if (front_end == "scan_matching")
     std::printf(
         "front end: %d of %zu odometry steps replaced by their registration (the stream "

@@ -24,9 +24,15 @@ namespace eval {
 // measurement in *T_edge (set to the candidate's T_a_b before the call).
 using LoopDecision = std::function<bool(const LoopCandidate&, Eigen::Isometry3d* T_edge)>;
 
+// A back end's check of a loop edge before it enters the graph (e.g. its agreement with the
+// odometry, eval::odometryInconsistentLoops): true to add it. seed: the index into `seeds` of a
+// seed, -1 for a candidate the decision accepted.
+using EdgeCheck = std::function<bool(const PoseGraphEdge&, int seed)>;
+
 struct IncrementalLoops {
   std::vector<LoopCandidate> proposed;    // in arrival order (a earlier, b the new keyframe)
-  std::vector<PoseGraphEdge> loop_edges;  // the accepted ones (with the seeds given)
+  std::vector<PoseGraphEdge> loop_edges;  // the accepted ones (with the seeds given) admitted
+  int refused = 0;                        // accepted edges and seeds the check kept out
   int solves = 0;                         // graph optimisations run
   PoseGraphResult last;                   // the final solve, over every keyframe and edge
 };
@@ -35,14 +41,16 @@ struct IncrementalLoops {
 // registration (max_radius_candidates and the look-alike fields are not used). odometry:
 // the odometry edges (k -> k+1). seeds: loop edges known before the run (e.g. decided look-alike
 // registrations), added once both ends have arrived. *poses: the final estimate, optimised once
-// more over every edge. False with *error on an invalid config, mismatched sizes or a failed
+// more over every edge. admit (optional): asked about every accepted edge and every seed before
+// it enters the graph. False with *error on an invalid config, mismatched sizes or a failed
 // optimisation.
 bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
                              const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
                              const std::vector<PoseGraphEdge>& odometry,
                              const std::vector<PoseGraphEdge>& seeds, const PoseGraphConfig& graph,
                              const LoopDecision& decide, coral::Isometries* poses,
-                             IncrementalLoops* out, std::string* error);
+                             IncrementalLoops* out, std::string* error,
+                             const EdgeCheck& admit = {});
 
 // A scan-matching front end for wheel odometry (what a 2D SLAM's front end does before its back
 // end sees a keyframe): keyframe k registered onto k - 1 (registerPair, cfg's registration) from

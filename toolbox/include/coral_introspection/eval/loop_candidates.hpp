@@ -79,6 +79,10 @@ struct LoopCandidate {
 // 10 deg. Tolerance: the preset's.
 LoopCandidateConfig evaluationCandidates(int dimension, const coral::ToleranceConfig& tolerance);
 
+// PCL's fitness score as a CSV cell: "inf" where PCL reports the largest double (no
+// correspondence within fitness_range, or a scan too small to register), the number otherwise.
+std::string fitnessCell(double fitness);
+
 // Registers b onto a from T_init (b's points into a's frame) and fills T_a_b, converged,
 // fitness. Scans in their own sensor frames. A scan of fewer than kMinRegistrationPoints points
 // is not registered: T_a_b = T_init, not converged, fitness the largest double.

@@ -37,6 +37,16 @@ bool pairwiseInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                                const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
                                std::string* error);
 
+// The loop edges of `edges` each of which, alone, disagrees with the odometry between its ends
+// beyond the chi-square bound of cfg.probability: the cycle loop edge + odometry back to its
+// start, first order as above (PCM's odometry check, which Kimera-RPGO runs before the pairwise
+// one). It needs no other loop edge, so it also judges the first loop closure of a run, where
+// a largest consistent set of one edge accepts anything. Same shape requirements and errors as
+// pairwiseInconsistentLoops; *rejected ascending.
+bool odometryInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
+                               const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
+                               std::string* error);
+
 // `edges` without those at the (ascending) indices `rejected`: the graph a back end optimises.
 std::vector<PoseGraphEdge> keptEdges(const std::vector<PoseGraphEdge>& edges,
                                      const std::vector<int>& rejected);
