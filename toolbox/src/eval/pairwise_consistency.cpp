@@ -242,6 +242,27 @@ bool odometryInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                             : inconsistentLoops<6>(edges, cfg, false, rejected, error);
 }
 
+bool inconsistentLoopEdges(const std::vector<PoseGraphEdge>& edges,
+                           const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
+                           int* by_odometry, std::string* error) {
+  std::vector<int> off_odometry, off_pairwise;
+  if (!odometryInconsistentLoops(edges, cfg, &off_odometry, error)) return false;
+  // The pairwise test runs on the edges the odometry check kept; its indices map back.
+  std::vector<int> index;  // kept[m] is edges[index[m]]
+  std::vector<PoseGraphEdge> kept;
+  for (std::size_t k = 0; k < edges.size(); ++k)
+    if (!std::binary_search(off_odometry.begin(), off_odometry.end(), static_cast<int>(k))) {
+      kept.push_back(edges[k]);
+      index.push_back(static_cast<int>(k));
+    }
+  if (!pairwiseInconsistentLoops(kept, cfg, &off_pairwise, error)) return false;
+  *rejected = off_odometry;
+  for (int m : off_pairwise) rejected->push_back(index[m]);
+  std::sort(rejected->begin(), rejected->end());
+  if (by_odometry) *by_odometry = static_cast<int>(off_odometry.size());
+  return true;
+}
+
 std::vector<PoseGraphEdge> keptEdges(const std::vector<PoseGraphEdge>& edges,
                                      const std::vector<int>& rejected) {
   std::vector<PoseGraphEdge> kept;

@@ -11,9 +11,10 @@
 //   4. with --prune TOLERANCES, per gate, the same graph after a back end's consistency check
 //      (eval::optimizePrunedPoseGraph: loop edges the optimum leaves more than TOLERANCES off
 //      removed, worst first), its ATE and relation error (--out_dir: GATE_pruned.tum / .kitti);
-//   5. with --pcm PROBABILITY, per gate, the graph of the largest set of pairwise consistent
-//      loop edges (eval/pairwise_consistency.hpp: PCM's cycles through the odometry under a
-//      chi-square bound of that probability) (--out_dir: GATE_pcm.tum / .kitti);
+//   5. with --pcm PROBABILITY, per gate, the graph of the loop edges that agree with the
+//      odometry between their ends and, of those, the largest set of pairwise consistent ones
+//      (eval::inconsistentLoopEdges: PCM's cycles through the odometry under a chi-square bound
+//      of that probability, as coral_pose_graph --pcm) (--out_dir: GATE_pcm.tum / .kitti);
 //   6. with --timing, the preset's loop verdict run once more per candidate as a back end
 //      gets it (online::judgePair with coral::loopClosureVerdict: coral_check --loop_closure,
 //      check_alignment with loop_closure), timed: median, 90th percentile and largest time per
@@ -393,7 +394,7 @@ int main(int argc, char** argv) {
   std::printf("%-14s %14s %14s %10.3f %10d%s\n", "odometry", "-", "-", ate_odom, 0,
               relErr(odom).c_str());
   // Per gate, the graph after a back end's check of the accepted loop edges: --prune
-  // (eval::optimizePrunedPoseGraph) and --pcm (eval::pairwiseInconsistentLoops).
+  // (eval::optimizePrunedPoseGraph) and --pcm (eval::inconsistentLoopEdges).
   struct Checked {
     std::string gate;
     coral::Isometries poses;
@@ -445,7 +446,7 @@ int main(int argc, char** argv) {
     if (prune) pruned.push_back(p);
     Checked q{gate, odom};
     if (use_pcm) {
-      if (!eval::pairwiseInconsistentLoops(edges, pcm, &removed, &err))
+      if (!eval::inconsistentLoopEdges(edges, pcm, &removed, nullptr, &err))
         return fail(gate + ": " + err);
       count(removed, &q);
       if (!eval::optimizePoseGraph(eval::keptEdges(edges, removed), pg, &q.poses, &res))
@@ -490,8 +491,9 @@ int main(int argc, char** argv) {
   }
   if (use_pcm) {
     std::printf(
-        "\nafter pairwise consistency (PCM: the largest set of loop edges whose cycles through the "
-        "odometry close within the chi-square bound of probability %.4g; the edges above):\n",
+        "\nafter the odometry and pairwise consistency checks (PCM: the loop edges whose cycle "
+        "with the odometry, and of those the largest set whose cycles with each other, close "
+        "within the chi-square bound of probability %.4g; the edges above):\n",
         pcm.probability);
     table_of(pcm_checked);
   }

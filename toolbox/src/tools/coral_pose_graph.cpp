@@ -305,32 +305,30 @@ int main(int argc, char** argv) {
     res = inc.last;
   } else {
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
-    for (std::size_t s = 0; s < loop_edges.size(); ++s) {
-      decided[seed_owner[s]].inconsistent = use_pcm && !odometryConsistent(loop_edges[s]);
-      if (!decided[seed_owner[s]].inconsistent) edges.push_back(loop_edges[s]);
-    }
-    if (!check_error.empty()) return fail(check_error);
+    edges.insert(edges.end(), loop_edges.begin(), loop_edges.end());
     if (!eval::optimizePoseGraph(edges, graph_cfg, &poses, &res))
       return fail("pose graph: " + res.error);
   }
   // 5. --pcm, second part: the loop edges in the graph checked against each other (PCM's largest
-  // pairwise consistent set); when some are left out, the graph is solved again without them,
-  // from the odometry.
+  // pairwise consistent set; in odometry mode the odometry check too); when some are left out,
+  // the graph is solved again without them, from the odometry.
   int odometry_out = 0, pairwise_out = 0;
   if (use_pcm) {
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
     std::vector<std::size_t> owner;  // edges[odom_edges.size() + i] is decided[owner[i]]'s
     for (std::size_t i = 0; i < decided.size(); ++i) {
-      odometry_out += decided[i].inconsistent ? 1 : 0;
+      odometry_out += decided[i].inconsistent ? 1 : 0;  // estimate mode: refused on arrival
       if (decided[i].accepted && !decided[i].inconsistent) {
         edges.push_back(loopEdge(decided[i]));
         owner.push_back(i);
       }
     }
     std::vector<int> removed;
-    if (!eval::pairwiseInconsistentLoops(edges, pcm, &removed, &err)) return fail(err);
+    int by_odometry = 0;
+    if (!eval::inconsistentLoopEdges(edges, pcm, &removed, &by_odometry, &err)) return fail(err);
     for (const int r : removed) decided[owner[r - odom_edges.size()]].inconsistent = true;
-    pairwise_out = static_cast<int>(removed.size());
+    odometry_out += by_odometry;
+    pairwise_out = static_cast<int>(removed.size()) - by_odometry;
     if (!removed.empty()) {
       poses = odom;
       if (!eval::optimizePoseGraph(eval::keptEdges(edges, removed), graph_cfg, &poses, &res))

@@ -47,6 +47,14 @@ bool odometryInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                                const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
                                std::string* error);
 
+// The loop edges a back end leaves out (`--pcm` of coral_loop_eval and coral_pose_graph): those
+// odometryInconsistentLoops rejects, then those of the rest outside the largest pairwise
+// consistent set. *rejected: both, indices into `edges`, ascending; *by_odometry (optional):
+// how many the first part rejected. Errors as pairwiseInconsistentLoops.
+bool inconsistentLoopEdges(const std::vector<PoseGraphEdge>& edges,
+                           const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
+                           int* by_odometry, std::string* error);
+
 // `edges` without those at the (ascending) indices `rejected`: the graph a back end optimises.
 std::vector<PoseGraphEdge> keptEdges(const std::vector<PoseGraphEdge>& edges,
                                      const std::vector<int>& rejected);
