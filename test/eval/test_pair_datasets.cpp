@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "coral_introspection/coral/statistics.hpp"
+#include "coral_introspection/eval/carmen_log.hpp"
 #include "coral_introspection/eval/pair_datasets.hpp"
 #include "support/test_data.hpp"
 
@@ -110,6 +111,22 @@ TEST(CarmenLog, RelationsBecomePairsWithTheEarlierScanFirst) {
   EXPECT_DOUBLE_EQ(pairs[0].T_a_b.translation().x(), 0.5);
   EXPECT_DOUBLE_EQ(scans[pairs[1].a].stamp, 11.0);
   EXPECT_DOUBLE_EQ(pairs[1].T_a_b.translation().x(), -0.25);
+}
+
+// A log's lines need not be in time order (the Intel log's FLASER stamps step back 631 times):
+// every stamp is found at its own line, where a binary search alone lands beside some; a stamp
+// that is not in the log gives log.size().
+TEST(CarmenLog, LogLineAtFindsStampsOutOfTimeOrder) {
+  std::vector<CarmenLaserScan> log(6);
+  const double stamps[6] = {10.0, 10.5, 10.2, 11.0, 11.6, 11.3};
+  for (int i = 0; i < 6; ++i) log[i].stamp = stamps[i];
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(logLineAt(log, stamps[i]), i) << stamps[i];
+    EXPECT_EQ(logLineAt(log, stamps[i] + 0.00004), i) << "within 1e-4 s of " << stamps[i];
+  }
+  EXPECT_EQ(logLineAt(log, 10.3), 6);
+  EXPECT_EQ(logLineAt(log, 12.0), 6);
+  EXPECT_EQ(logLineAt({}, 10.0), 0);
 }
 
 TEST(PairDatasets, SpecParsing) {

@@ -60,18 +60,21 @@ bool judge(const ros_adapters::NodeConfig& node, const coral::Scan& a, const cor
 
 // What a test asserts: at least these many candidates, this share of true ones accepted, at
 // most max_false false ones, the relative check alone accepting at least relative_factor
-// times as many false ones (the gate's worth), and exactly restart_false false candidates
-// (no true one) rejected by the restart check after the verdict accepted them at the pose.
+// times as many false ones (the gate's worth), and exactly restart_false false candidates and
+// restart_true true ones rejected by the restart check after the verdict accepted them at the
+// pose.
 struct Expected {
   int min_true, min_false, true_percent, max_false, relative_factor, restart_false;
+  int restart_true = 0;
 };
 // Under coral_test::pairStride() > 1 (sanitizers) a few candidates only: the bounds that hold
 // for any subset (no more false accepted than measured on all).
 void expectTally(const LoopTally& t, const Expected& e) {
   EXPECT_LE(t.false_accepted, e.max_false);
-  EXPECT_EQ(t.restart_rejected[1], 0);
+  EXPECT_LE(t.restart_rejected[1], e.restart_true);
   if (coral_test::pairStride() > 1) return;
   EXPECT_EQ(t.restart_rejected[0], e.restart_false);
+  EXPECT_EQ(t.restart_rejected[1], e.restart_true);
   EXPECT_GE(t.true_total, e.min_true);
   EXPECT_GE(t.false_total, e.min_false);
   EXPECT_GE(t.true_accepted, t.true_total * e.true_percent / 100);
@@ -303,16 +306,19 @@ std::vector<eval::PoseGraphEdge> loopGraph(
   return edges;
 }
 
-// Measured (doc/loop_closure.md, all rows): 1512 true (1246 relations, 266 registered again
-// within the tolerance), 345 false (105 registered 2+ tolerances off, 240 look-alikes); loop
-// verdict 1392 true (1365 at their pose, 27 more registered back within half a tolerance,
-// loop_closure/max_registered_offset), 0 false accepted (of the two relations registered 1-1.1 m
-// off that pass the local terms, the restart check rejects one, min_probability 0.02 the other: p
-// 0.0195); the relative check alone 31 false. The classifier of lidar_2d was trained on ACES: this
-// is a cross-data-set figure.
+// Measured (doc/loop_closure.md, all rows, 2026-12-07 after eval::logLineAt found the stamps of
+// the Intel log's lines out of time order): 1521 true (1245 relations, 276 registered again
+// within the tolerance), 346 false (106 registered 2+ tolerances off, 240 look-alikes); loop
+// verdict 1404 true (1378 at their pose, 26 more registered back within half a tolerance,
+// loop_closure/max_registered_offset), 0 false accepted (of the relations registered about 1 m
+// off that pass the local terms, the restart check rejects one); the relative check alone 41
+// false. The restart check also rejects one true candidate: relation 130-680 registered again
+// 0.05 m / 1.4 deg from the relation (Q 0.102), for an alignment 8.7 tolerances away with Q
+// 0.058 (the cubicle rows repeat). The classifier of lidar_2d was trained on ACES: this is a
+// cross-data-set figure.
 TEST(LoopClosure, Lidar2dOnTheIntelLoops) {
   CORAL_REQUIRE_DATA("radish_intel");
-  checkCarmenLoops("intel", "icp", {1450, 300, 92, 0, 10, 1});
+  checkCarmenLoops("intel", "icp", {1450, 300, 92, 0, 10, 1, 1});
 }
 
 // ACES (corridors: errors along them are unobservable, doc/verdict_pairs.md), its relations
@@ -417,7 +423,8 @@ TEST(LoopClosure, Lidar2dTenTimesTheLookAlikesOnAces) {
 // relations whose other scan saw a wall in front of them. lidar_2d's coral/max_range (49.9 m)
 // drops them: every verdict equals that of the scans read without them, while with max_range 0
 // the loop verdict loses right relations to the free-space term. Every 4th of Intel's 1245 loop
-// relations, those with a no-return reading in either scan.
+// relations, those with a no-return reading in either scan (measured 2026-12-07: 201 judged,
+// 192 accepted, 25 of them rejected with max_range 0, all by the free-space term).
 TEST(LoopClosure, Lidar2dNoReturnReadingsAtTheMaximumRangeAreDropped) {
   CORAL_REQUIRE_DATA("radish_intel");
   const std::string log_path = coral_data + "/intel.clf.bz2";

@@ -174,9 +174,16 @@ std::string relationsPath(const std::string& log_path) {
 }
 
 int logLineAt(const std::vector<CarmenLaserScan>& log, double stamp) {
+  // Mostly in time order, so a binary search finds most stamps; but a log's lines need not be
+  // (the Intel log's FLASER stamps step back 631 times, by up to 0.6 s), and there the search
+  // lands beside the line: it is then looked for line by line.
   const auto it = std::lower_bound(log.begin(), log.end(), stamp - 1e-4,
                                    [](const CarmenLaserScan& l, double t) { return l.stamp < t; });
-  return static_cast<int>(it - log.begin());
+  if (it != log.end() && std::abs(it->stamp - stamp) <= 1e-4)
+    return static_cast<int>(it - log.begin());
+  for (std::size_t i = 0; i < log.size(); ++i)
+    if (std::abs(log[i].stamp - stamp) <= 1e-4) return static_cast<int>(i);
+  return static_cast<int>(log.size());
 }
 
 bool loopRelationPairs(const std::vector<CarmenLaserScan>& log, const std::string& relations_path,

@@ -45,6 +45,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -86,9 +87,11 @@ int fail(const std::string& msg) { return eval::toolError("coral_pose_graph", ms
 // eval::kLogOdometrySigmaT/R.
 constexpr double kOdomSigmaT = 0.05, kOdomSigmaR = 0.01;
 // How far (log lines) a relation's scan may lie from a keyframe to be measured through the raw
-// odometry between them (eval::LogNodes): keyframes 1 m apart are ~10 lines apart when moving;
-// a robot standing still adds lines, not keyframes, and its odometry does not drift there.
-constexpr int kAttachLines = 200;
+// odometry between them (eval::LogNodes): no bound. Keyframes are taken by the odometry's motion
+// (eval::logKeyframes), so a scan lies within about --keyframe_distance / --keyframe_angle of
+// odometry of its nearest keyframe however many lines apart they are (a robot standing still
+// adds lines, not motion). A bound of 200 lines left 639 of Intel's 2,984 relations unmeasured.
+constexpr int kAttachLines = std::numeric_limits<int>::max();
 
 // The verdict and the reason only: a PairJudgement also holds the prepared pair (grids,
 // filtered clouds, a few MB per dense pair), which is not kept for every candidate.

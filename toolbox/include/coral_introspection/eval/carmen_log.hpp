@@ -45,8 +45,9 @@ struct Relation {
   Eigen::Isometry3d T_1_2 = Eigen::Isometry3d::Identity();  // p_1 = T_1_2 p_2
 };
 bool readRelations(const std::string& path, std::vector<Relation>* relations, std::string* error);
-// The first log line whose stamp is not below stamp - 1e-4 (relations and corrected poses
-// name scans by stamp to 1e-4 s); log.size() when none. Log order is time order.
+// The log line whose stamp is within 1e-4 s of stamp (relations and corrected poses name scans
+// by stamp to 1e-4 s; the first such line); log.size() when none. Log order need not be time
+// order.
 int logLineAt(const std::vector<CarmenLaserScan>& log, double stamp);
 
 // The relations file of a log: LOG.relations for LOG.clf[.bz2] or LOG.log (the benchmark's
