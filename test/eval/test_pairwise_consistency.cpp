@@ -65,9 +65,13 @@ std::vector<PoseGraphEdge> noisyGraph(const Isometries& truth, int dimension,
   return edges;
 }
 
-// Fraction of trials in which two right loop edges are judged consistent (both kept).
+using Check = bool (*)(const std::vector<PoseGraphEdge>&, const PairwiseConsistencyConfig&,
+                       std::vector<int>*, std::string*);
+
+// Fraction of trials in which right loop edges are judged consistent (all kept) by `check`.
 double consistentRate(int dimension, double probability, int trials,
-                      const std::vector<std::pair<int, int>>& loops) {
+                      const std::vector<std::pair<int, int>>& loops,
+                      Check check = pairwiseInconsistentLoops) {
   std::mt19937 rng(11);
   const Isometries truth = square(dimension);
   PairwiseConsistencyConfig cfg;
@@ -78,7 +82,7 @@ double consistentRate(int dimension, double probability, int trials,
     const auto edges = noisyGraph(truth, dimension, loops, &rng);
     std::vector<int> rejected;
     std::string error;
-    EXPECT_TRUE(pairwiseInconsistentLoops(edges, cfg, &rejected, &error)) << error;
+    EXPECT_TRUE(check(edges, cfg, &rejected, &error)) << error;
     kept += rejected.empty();
   }
   return double(kept) / trials;
@@ -167,22 +171,7 @@ TEST(OdometryConsistency, RightLoopEdgesPassAtTheBoundsProbability) {
   for (const std::pair<int, int>& loop : {std::pair{2, 38}, std::pair{38, 2}, std::pair{5, 10}})
     for (int dimension : {2, 3})
       for (double p : {0.9, 0.99}) {
-        std::mt19937 rng(17);
-        const Isometries truth = square(dimension);
-        PairwiseConsistencyConfig cfg;
-        cfg.dimension = dimension;
-        cfg.probability = p;
-        int kept = 0;
-        const int trials = 2000;
-        for (int t = 0; t < trials; ++t) {
-          std::vector<int> rejected;
-          std::string error;
-          ASSERT_TRUE(odometryInconsistentLoops(noisyGraph(truth, dimension, {loop}, &rng), cfg,
-                                                &rejected, &error))
-              << error;
-          kept += rejected.empty();
-        }
-        const double rate = double(kept) / trials;
+        const double rate = consistentRate(dimension, p, 2000, {loop}, odometryInconsistentLoops);
         std::printf("loop %d -> %d, dimension %d, probability %.2f: %.4f consistent\n", loop.first,
                     loop.second, dimension, p, rate);
         EXPECT_NEAR(rate, p, 0.02) << "dimension " << dimension << ", loop from " << loop.first;

@@ -220,26 +220,29 @@ std::string PairwiseConsistencyConfig::validate() const {
       .str();
 }
 
+namespace {
+bool checkLoops(const std::vector<PoseGraphEdge>& edges, const PairwiseConsistencyConfig& cfg,
+                bool pairwise, std::vector<int>* rejected, std::string* error) {
+  const std::string what = pairwise ? "pairwise consistency: " : "odometry consistency: ";
+  if (const std::string problems = cfg.validate(); !problems.empty())
+    return coral::fail(error, what + problems);
+  if (!rejected) return coral::fail(error, what + "no output");
+  rejected->clear();
+  return cfg.dimension == 2 ? inconsistentLoops<3>(edges, cfg, pairwise, rejected, error)
+                            : inconsistentLoops<6>(edges, cfg, pairwise, rejected, error);
+}
+}  // namespace
+
 bool pairwiseInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                                const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
                                std::string* error) {
-  if (const std::string problems = cfg.validate(); !problems.empty())
-    return coral::fail(error, "pairwise consistency: " + problems);
-  if (!rejected) return coral::fail(error, "pairwise consistency: no output");
-  rejected->clear();
-  return cfg.dimension == 2 ? inconsistentLoops<3>(edges, cfg, true, rejected, error)
-                            : inconsistentLoops<6>(edges, cfg, true, rejected, error);
+  return checkLoops(edges, cfg, true, rejected, error);
 }
 
 bool odometryInconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                                const PairwiseConsistencyConfig& cfg, std::vector<int>* rejected,
                                std::string* error) {
-  if (const std::string problems = cfg.validate(); !problems.empty())
-    return coral::fail(error, "odometry consistency: " + problems);
-  if (!rejected) return coral::fail(error, "odometry consistency: no output");
-  rejected->clear();
-  return cfg.dimension == 2 ? inconsistentLoops<3>(edges, cfg, false, rejected, error)
-                            : inconsistentLoops<6>(edges, cfg, false, rejected, error);
+  return checkLoops(edges, cfg, false, rejected, error);
 }
 
 bool inconsistentLoopEdges(const std::vector<PoseGraphEdge>& edges,
