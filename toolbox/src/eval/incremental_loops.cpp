@@ -73,9 +73,8 @@ bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
       registerPair(scans[best].scan.points, scans[i].scan.points, est[best].inverse() * est[i], cfg,
                    &c);
       Eigen::Isometry3d T_edge = c.T_a_b;
-      PoseGraphEdge e{c.a, c.b, T_edge, kLoopEdgeSigmaT, kLoopEdgeSigmaR, true};
       const bool accepted = decide(c, &T_edge);
-      e.T_from_to = T_edge;
+      const PoseGraphEdge e{c.a, c.b, T_edge, kLoopEdgeSigmaT, kLoopEdgeSigmaR, true};
       if (accepted && admit && !admit(e, -1)) {
         ++out->refused;
       } else if (accepted) {

@@ -26,11 +26,11 @@
 //      offers when it accepts a registered one, else the candidate's), optimised with Ceres
 //      (eval/pose_graph.hpp), written as OUT_DIR/trajectory.tum and trajectory.kitti, and every
 //      candidate with its verdict as OUT_DIR/candidates.csv.
-// With --pcm PROBABILITY the back end then keeps only the largest set of pairwise consistent loop
-// edges (PCM, Mangelson et al. 2018: each two close a cycle with the odometry that must return
-// to its start within the chi-square bound of that probability; eval/pairwise_consistency.hpp)
-// and solves the graph again from the odometry without the others: a check of the edges
-// against each other and the odometry, which catches an edge the gate let through where the
+// With --pcm PROBABILITY the back end checks the accepted loop edges (PCM, Mangelson et al. 2018;
+// eval/pairwise_consistency.hpp): each must close a cycle with the odometry between its ends
+// within the chi-square bound of that probability (with --proposal estimate before it enters
+// the running graph), and of those only the largest pairwise consistent set is kept; the graph
+// is solved from the odometry with them. It catches an edge the gate let through where the
 // odometry is as good as its sigmas (not on Intel's wheel odometry: doc/loop_closure.md).
 // With --reference FILE (KITTI layout, one pose per keyframe) it also prints the ATE of the
 // odometry and of the graph against it; with --relations FILE (CARMEN) the benchmark's relation
@@ -90,7 +90,8 @@ constexpr double kOdomSigmaT = 0.05, kOdomSigmaR = 0.01;
 // odometry between them (eval::LogNodes): no bound. Keyframes are taken by the odometry's motion
 // (eval::logKeyframes), so a scan lies within about --keyframe_distance / --keyframe_angle of
 // odometry of its nearest keyframe however many lines apart they are (a robot standing still
-// adds lines, not motion). A bound of 200 lines left 639 of Intel's 2,984 relations unmeasured.
+// adds lines, not motion). (Intel's 639 unmeasured relations of before came from
+// eval::logLineAt, not from the former bound of 200 lines.)
 constexpr int kAttachLines = std::numeric_limits<int>::max();
 
 // The verdict and the reason only: a PairJudgement also holds the prepared pair (grids,
@@ -266,11 +267,11 @@ int main(int argc, char** argv) {
   if (!eval::proposeLoopCandidates(scans, odom, batch, &proposed, &err)) return fail(err);
   for (const eval::LoopCandidate& c : proposed) decided.push_back(decide(c));
   std::vector<eval::PoseGraphEdge> loop_edges;
-  std::vector<std::size_t> seed_owner;  // loop_edges[s] is decided[seed_owner[s]]'s
+  std::vector<std::size_t> owner;  // loop_edges[s] is decided[owner[s]]'s
   for (std::size_t i = 0; i < decided.size(); ++i)
     if (decided[i].accepted) {
       loop_edges.push_back(loopEdge(decided[i]));
-      seed_owner.push_back(i);
+      owner.push_back(i);
     }
   // --pcm, first part: a loop edge enters the graph only when it agrees with the odometry between
   // its ends (eval::odometryInconsistentLoops); in estimate mode before it can bend the estimate
@@ -296,7 +297,7 @@ int main(int argc, char** argv) {
     };
     auto admit = [&](const eval::PoseGraphEdge& e, int seed) {
       const bool ok = odometryConsistent(e);
-      decided[seed < 0 ? decided.size() - 1 : seed_owner[seed]].inconsistent = !ok;
+      decided[seed < 0 ? decided.size() - 1 : owner[seed]].inconsistent = !ok;
       return ok;
     };
     if (!eval::closeLoopsIncrementally(scans, odom, cand, odom_edges, loop_edges, graph_cfg,
@@ -306,37 +307,37 @@ int main(int argc, char** argv) {
     if (!check_error.empty()) return fail(check_error);
     solves = inc.solves;
     res = inc.last;
-  } else {
+  } else if (!use_pcm) {  // with --pcm the graph is solved once, after the check (5.)
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
     edges.insert(edges.end(), loop_edges.begin(), loop_edges.end());
     if (!eval::optimizePoseGraph(edges, graph_cfg, &poses, &res))
       return fail("pose graph: " + res.error);
   }
   // 5. --pcm, second part: the loop edges in the graph checked against each other (PCM's largest
-  // pairwise consistent set; in odometry mode the odometry check too); when some are left out,
-  // the graph is solved again without them, from the odometry.
+  // pairwise consistent set; in odometry mode the odometry check too); the graph solved from the
+  // odometry with the rest (estimate mode solved it as it went: again only when some are out).
   int odometry_out = 0, pairwise_out = 0;
   if (use_pcm) {
     std::vector<eval::PoseGraphEdge> edges = odom_edges;
-    std::vector<std::size_t> owner;  // edges[odom_edges.size() + i] is decided[owner[i]]'s
+    std::vector<std::size_t> in_graph;  // edges[odom_edges.size() + i] is decided[in_graph[i]]'s
     for (std::size_t i = 0; i < decided.size(); ++i) {
       odometry_out += decided[i].inconsistent ? 1 : 0;  // estimate mode: refused on arrival
       if (decided[i].accepted && !decided[i].inconsistent) {
         edges.push_back(loopEdge(decided[i]));
-        owner.push_back(i);
+        in_graph.push_back(i);
       }
     }
     std::vector<int> removed;
     int by_odometry = 0;
     if (!eval::inconsistentLoopEdges(edges, pcm, &removed, &by_odometry, &err)) return fail(err);
-    for (const int r : removed) decided[owner[r - odom_edges.size()]].inconsistent = true;
+    for (const int r : removed) decided[in_graph[r - odom_edges.size()]].inconsistent = true;
     odometry_out += by_odometry;
     pairwise_out = static_cast<int>(removed.size()) - by_odometry;
-    if (!removed.empty()) {
+    if (proposal != "estimate" || !removed.empty()) {
       poses = odom;
       if (!eval::optimizePoseGraph(eval::keptEdges(edges, removed), graph_cfg, &poses, &res))
         return fail("pose graph (pcm): " + res.error);
-      ++solves;
+      if (proposal == "estimate") ++solves;
     }
   }
   const int left_out = odometry_out + pairwise_out;
