@@ -270,14 +270,15 @@ void checkCarmenLoops(const std::string& log, const std::string& registration,
   }
   print(("lidar_2d, " + log + ", " + registration + " registration").c_str(), t);
   expectTally(t, expected);
-  if (!median_error) return;
-  std::vector<double> errors;  // of every true re-registration (judged or not)
-  for (const eval::LoopCandidate& c : set.revisits)
-    if (c.source == "relation_icp" && c.is_true) errors.push_back(c.error_translation);
-  ASSERT_FALSE(errors.empty()) << registration;
-  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
-  *median_error = errors[errors.size() / 2];
-  std::cout << "median error of the true registrations " << *median_error << " m\n";
+  if (median_error) {
+    std::vector<double> errors;  // of every true re-registration (judged or not)
+    for (const eval::LoopCandidate& c : set.revisits)
+      if (c.source == "relation_icp" && c.is_true) errors.push_back(c.error_translation);
+    ASSERT_FALSE(errors.empty()) << registration;
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+    *median_error = errors[errors.size() / 2];
+    std::cout << "median error of the true registrations " << *median_error << " m\n";
+  }
   if (judged) judged->set = std::move(set);
 }
 
@@ -311,14 +312,39 @@ std::vector<eval::PoseGraphEdge> loopGraph(
 // within the tolerance), 346 false (106 registered 2+ tolerances off, 240 look-alikes); loop
 // verdict 1404 true (1378 at their pose, 26 more registered back within half a tolerance,
 // loop_closure/max_registered_offset), 0 false accepted (of the relations registered about 1 m
-// off that pass the local terms, the restart check rejects one); the relative check alone 41
-// false. The restart check also rejects one true candidate: relation 130-680 registered again
-// 0.05 m / 1.4 deg from the relation (Q 0.102), for an alignment 8.7 tolerances away with Q
-// 0.058 (the cubicle rows repeat). The classifier of lidar_2d was trained on ACES: this is a
-// cross-data-set figure.
+// off that pass the local terms, the restart check rejects one); the relative check alone 30
+// false (41 with the look-alikes chosen on the folded reference before 2026-12-07's third
+// session: doc/loop_closure.md "Intel's graphs were folded"). The restart check also rejects one
+// true candidate: relation 130-680 registered again 0.05 m / 1.4 deg from the relation (Q 0.102),
+// for an alignment 8.7 tolerances away with Q 0.058 (the cubicle rows repeat). The classifier of
+// lidar_2d was trained on ACES: this is a cross-data-set figure.
+// The graphs, as coral_loop_eval solves them (from the odometry and from the linear start, the
+// lower cost kept): measured ATE against the relation graph, oracle 0.141 m, verdict 0.165 m
+// (every right candidate an edge, against the verdict's accepted ones). From the raw odometry
+// alone both stop in a folded local minimum, on the odd rows 9.4 and 9.1 m from the relation
+// graph (doc/loop_closure.md "Intel's graphs were folded").
 TEST(LoopClosure, Lidar2dOnTheIntelLoops) {
   CORAL_REQUIRE_DATA("radish_intel");
-  checkCarmenLoops("intel", "icp", {1450, 300, 92, 0, 10, 1, 1});
+  JudgedLoops judged;
+  checkCarmenLoops("intel", "icp", {1450, 300, 92, 0, 10, 1, 1}, nullptr, &judged);
+  if (coral_test::pairStride() > 1) return;  // the graphs below need every candidate
+  eval::PoseGraphConfig pg = eval::robustContinuationConfig(2);
+  pg.try_linear_start = true;
+  std::vector<bool> edge_true;
+  const auto oracle_edges = loopGraph(
+      judged, [](const eval::LoopCandidate& c, bool) { return c.is_true; }, &edge_true);
+  const auto verdict_edges = loopGraph(
+      judged, [](const eval::LoopCandidate&, bool accepted) { return accepted; }, &edge_true);
+  coral::Isometries oracle = judged.set.odom, verdict = judged.set.odom;
+  eval::PoseGraphResult res;
+  ASSERT_TRUE(eval::optimizePoseGraph(oracle_edges, pg, &oracle, &res)) << res.error;
+  ASSERT_TRUE(eval::optimizePoseGraph(verdict_edges, pg, &verdict, &res)) << res.error;
+  const double ate_oracle = eval::absoluteTrajectoryError(oracle, judged.set.ref, 2);
+  const double ate_verdict = eval::absoluteTrajectoryError(verdict, judged.set.ref, 2);
+  std::cout << "Intel graphs: ATE oracle " << ate_oracle << ", verdict " << ate_verdict << " m\n";
+  EXPECT_LT(ate_oracle, 0.3);
+  EXPECT_LT(ate_verdict, 0.3);
+  EXPECT_LT(ate_verdict, 1.5 * ate_oracle);
 }
 
 // ACES (corridors: errors along them are unobservable, doc/verdict_pairs.md), its relations
@@ -347,7 +373,8 @@ TEST(LoopClosure, Lidar2dOnTheAcesLoops) {
   // false edges the verdict let through bend the graph (ATE 4.2 m against the oracle's 0.25 m);
   // each is left the worst explained and removed, no true edge is, and the graph ends within
   // 10 % of the oracle's (measured: 3 false removed, ATE 0.245 m; coral_loop_eval --prune 3).
-  const eval::PoseGraphConfig pg = eval::robustContinuationConfig(2);
+  eval::PoseGraphConfig pg = eval::robustContinuationConfig(2);
+  pg.try_linear_start = true;  // as coral_loop_eval solves planar graphs
   std::vector<bool> verdict_true, oracle_true;
   const auto verdict_edges = loopGraph(
       judged, [](const eval::LoopCandidate&, bool accepted) { return accepted; }, &verdict_true);

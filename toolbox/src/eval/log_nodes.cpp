@@ -87,8 +87,10 @@ bool relationGraph(const LogNodes& nodes, const coral::Isometries& T_world_odom,
     ++figures->edges;
   }
   *poses = T_world_odom;
+  PoseGraphConfig cfg = robustContinuationConfig(2);
+  cfg.try_linear_start = true;  // from the odometry alone the Intel graph folds (pose_graph.hpp)
   PoseGraphResult res;
-  if (!optimizePoseGraph(edges, robustContinuationConfig(2), poses, &res)) {
+  if (!optimizePoseGraph(edges, cfg, poses, &res)) {
     if (error) *error = "relation graph: " + res.error;
     return false;
   }

@@ -3,6 +3,9 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -92,6 +95,8 @@ std::string PoseGraphConfig::validate() const {
       .require(std::all_of(loop_sigma_schedule.begin(), loop_sigma_schedule.end(),
                            [](double f) { return std::isfinite(f) && f > 1.0; }),
                "loop_sigma_schedule: every factor must be finite and > 1")
+      .require(!try_linear_start || dimension == 2,
+               "try_linear_start: planar graphs only (dimension 2)")
       .str();
 }
 
@@ -103,6 +108,25 @@ bool optimizePoseGraph(const std::vector<PoseGraphEdge>& edges, const PoseGraphC
   const std::string problems = cfg.validate();
   if (!problems.empty()) return coral::fail(&res.error, problems);
   if (!poses || poses->empty()) return coral::fail(&res.error, "pose graph without poses");
+  if (cfg.try_linear_start) {  // solved from both starts; the lower final cost is kept
+    PoseGraphConfig one = cfg;
+    one.try_linear_start = false;
+    coral::Isometries from_given = *poses, from_linear = *poses;  // *poses untouched on failure
+    PoseGraphResult linear;
+    if (!optimizePoseGraph(edges, one, &from_given, &res) ||
+        !planarLinearStart(edges, &from_linear, &res.error))
+      return false;
+    if (!optimizePoseGraph(edges, one, &from_linear, &linear))
+      return coral::fail(&res.error, linear.error);
+    const int iterations = res.iterations + linear.iterations;
+    if (linear.final_cost < res.final_cost) {
+      res = linear;
+      from_given = from_linear;
+    }
+    res.iterations = iterations;
+    *poses = from_given;
+    return true;
+  }
   if (!cfg.loop_sigma_schedule.empty()) {  // the continuation stages, then the solve below
     PoseGraphConfig stage_cfg = cfg;
     stage_cfg.loop_sigma_schedule.clear();
@@ -255,6 +279,7 @@ bool optimizePrunedPoseGraph(std::vector<PoseGraphEdge> edges, const PoseGraphCo
   // last one less the removed edge's and only falls.
   PoseGraphConfig warm = cfg;
   warm.loop_sigma_schedule.clear();
+  warm.try_linear_start = false;
   for (int round = 0;; ++round) {
     const auto [worst, size] = worstLoopEdge(edges, solved);
     const bool strained = size > pruning.max_residual;
@@ -268,6 +293,114 @@ bool optimizePrunedPoseGraph(std::vector<PoseGraphEdge> edges, const PoseGraphCo
     index.erase(index.begin() + static_cast<std::ptrdiff_t>(worst));
     if (!optimizePoseGraph(edges, warm, &solved, &res)) return false;
   }
+}
+
+namespace {
+
+// Solves sum_e w_e (u[to] - u[from] - rhs_e)^2 + prior * sum_k (u[k] - u0[k])^2 for u, with
+// u[0] held at u0[0] (a large weight). The weak prior only places nodes no edge reaches.
+bool linearChain(const std::vector<PoseGraphEdge>& edges, const std::vector<double>& weight,
+                 const std::vector<double>& rhs, const std::vector<double>& u0,
+                 std::vector<double>* u) {
+  const int n = static_cast<int>(u0.size());
+  constexpr double kPrior = 1e-9, kAnchor = 1e12;
+  std::vector<Eigen::Triplet<double>> t;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  for (int k = 0; k < n; ++k) {
+    const double w = k == 0 ? kAnchor : kPrior;
+    t.emplace_back(k, k, w);
+    b[k] += w * u0[k];
+  }
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const int i = edges[e].from, j = edges[e].to;
+    const double w = weight[e];
+    t.emplace_back(i, i, w);
+    t.emplace_back(j, j, w);
+    t.emplace_back(i, j, -w);
+    t.emplace_back(j, i, -w);
+    b[j] += w * rhs[e];
+    b[i] -= w * rhs[e];
+  }
+  Eigen::SparseMatrix<double> A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success) return false;
+  const Eigen::VectorXd x = solver.solve(b);
+  if (solver.info() != Eigen::Success || !x.allFinite()) return false;
+  u->assign(x.data(), x.data() + n);
+  return true;
+}
+
+}  // namespace
+
+bool planarLinearStart(const std::vector<PoseGraphEdge>& edges, coral::Isometries* poses,
+                       std::string* error) {
+  if (!poses || poses->empty()) return coral::fail(error, "pose graph without poses");
+  const int n = static_cast<int>(poses->size());
+  for (const PoseGraphEdge& e : edges)
+    if (e.from < 0 || e.to < 0 || e.from >= n || e.to >= n || e.from == e.to ||
+        !(e.sigma_translation > 0.0 && e.sigma_rotation > 0.0))
+      return coral::fail(error, "planar linear start: an edge out of range or without sigmas");
+  // 1. Orientations by the chordal relaxation: each node's (cos, sin) as free unknowns, every
+  // edge's rotation a linear constraint R_j = R_i R_ij between them, solved by linear least
+  // squares and then normalised. No angle is unwrapped, so no 2 pi is guessed (the relaxation
+  // Carlone et al. 2015 found the most accurate start for rotations).
+  constexpr double kPrior = 1e-9, kAnchor = 1e12;  // the weak prior places unreached nodes
+  std::vector<double> yaw0(n);
+  for (int k = 0; k < n; ++k) yaw0[k] = coral::yawOf((*poses)[k].linear());
+  std::vector<Eigen::Triplet<double>> t;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * n);
+  for (int k = 0; k < n; ++k) {
+    const double w = k == 0 ? kAnchor : kPrior;
+    for (int r = 0; r < 2; ++r) t.emplace_back(2 * k + r, 2 * k + r, w);
+    b[2 * k] += w * std::cos(yaw0[k]);
+    b[2 * k + 1] += w * std::sin(yaw0[k]);
+  }
+  for (const PoseGraphEdge& e : edges) {
+    // Residual z_j - M z_i, M the edge's 2D rotation acting on z_i = (cos, sin) of node i.
+    const Eigen::Matrix2d M = Eigen::Rotation2Dd(coral::yawOf(e.T_from_to.linear())).matrix();
+    const double w = 1.0 / (e.sigma_rotation * e.sigma_rotation);
+    const int i = 2 * e.from, j = 2 * e.to;
+    for (int r = 0; r < 2; ++r) {
+      t.emplace_back(i + r, i + r, w);  // M^T M = I
+      t.emplace_back(j + r, j + r, w);
+      for (int c = 0; c < 2; ++c) {
+        t.emplace_back(j + r, i + c, -w * M(r, c));
+        t.emplace_back(i + c, j + r, -w * M(r, c));
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> A(2 * n, 2 * n);
+  A.setFromTriplets(t.begin(), t.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> rotations(A);
+  const Eigen::VectorXd z = rotations.solve(b);
+  if (rotations.info() != Eigen::Success || !z.allFinite())
+    return coral::fail(error, "planar linear start: the rotation solve failed");
+  std::vector<double> yaw(n);
+  for (int k = 0; k < n; ++k) yaw[k] = std::atan2(z[2 * k + 1], z[2 * k]);
+  // 2. With the orientations fixed the positions are linear (LAGO's second step, Carlone et al.
+  // 2014), x and y apart.
+  std::vector<double> w_t(edges.size()), dx(edges.size()), dy(edges.size()), x0(n), y0(n), x, y;
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const PoseGraphEdge& g = edges[e];
+    const Eigen::Vector2d d = Eigen::Rotation2Dd(yaw[g.from]) * g.T_from_to.translation().head<2>();
+    dx[e] = d.x();
+    dy[e] = d.y();
+    w_t[e] = 1.0 / (g.sigma_translation * g.sigma_translation);
+  }
+  for (int k = 0; k < n; ++k) {
+    x0[k] = (*poses)[k].translation().x();
+    y0[k] = (*poses)[k].translation().y();
+  }
+  if (!linearChain(edges, w_t, dx, x0, &x) || !linearChain(edges, w_t, dy, y0, &y))
+    return coral::fail(error, "planar linear start: the position solve failed");
+  for (int k = 1; k < n; ++k) {  // node 0 stays (the gauge); z, roll and pitch are kept
+    Eigen::Isometry3d& T = (*poses)[k];
+    const Eigen::AngleAxisd turn(yaw[k] - yaw0[k], Eigen::Vector3d::UnitZ());
+    T.linear() = turn.toRotationMatrix() * T.linear();
+    T.translation().head<2>() = Eigen::Vector2d(x[k], y[k]);
+  }
+  return true;
 }
 
 std::vector<PoseGraphEdge> odometryEdges(const coral::Isometries& odom_poses,
