@@ -24,6 +24,7 @@ TEST(LoopEvalArgs, BadOptionsAreRefusedNamingThem) {
           {base + "--lookalikes 0", "--lookalikes"},
           {base + "--lookalikes 60x", "--lookalikes"},
           {base + "--pcn 0.99", "--pcn"},  // a misspelt option is not ignored
+          {base + "--calibrate_odometry", "--calibrate_odometry needs --carmen"},
           // The restart check is the preset's (loop_closure/restarts) since 2026-12-03: the old
           // flag is refused, not ignored.
           {base + "--restarts", "--restarts"},

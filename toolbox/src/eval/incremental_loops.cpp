@@ -99,13 +99,11 @@ bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
   return true;
 }
 
-coral::Isometries scanMatchedOdometry(const std::vector<TrainingScan>& scans,
-                                      const coral::Isometries& T_world_odom,
-                                      const LoopCandidateConfig& cfg, const LoopDecision& accept,
-                                      int* accepted) {
-  *accepted = 0;
-  if (scans.empty() || T_world_odom.size() != scans.size()) return {};
-  coral::Isometries chain = {T_world_odom[0]};
+std::vector<std::optional<Eigen::Isometry3d>> scanMatchedSteps(
+    const std::vector<TrainingScan>& scans, const coral::Isometries& T_world_odom,
+    const LoopCandidateConfig& cfg, const LoopDecision& accept) {
+  std::vector<std::optional<Eigen::Isometry3d>> steps;
+  if (scans.size() < 2 || T_world_odom.size() != scans.size()) return steps;
   for (std::size_t k = 1; k < scans.size(); ++k) {
     LoopCandidate c;
     c.a = static_cast<int>(k) - 1;
@@ -114,11 +112,38 @@ coral::Isometries scanMatchedOdometry(const std::vector<TrainingScan>& scans,
     const Eigen::Isometry3d step = T_world_odom[k - 1].inverse() * T_world_odom[k];
     registerPair(scans[k - 1].scan.points, scans[k].scan.points, step, cfg, &c);
     Eigen::Isometry3d T = c.T_a_b;
-    const bool ok = c.converged && accept(c, &T);
-    *accepted += ok ? 1 : 0;
-    chain.push_back(chain.back() * (ok ? T : step));
+    steps.push_back(c.converged && accept(c, &T) ? std::optional<Eigen::Isometry3d>(T)
+                                                 : std::nullopt);
+  }
+  return steps;
+}
+
+coral::Isometries scanMatchedOdometry(const std::vector<TrainingScan>& scans,
+                                      const coral::Isometries& T_world_odom,
+                                      const LoopCandidateConfig& cfg, const LoopDecision& accept,
+                                      int* accepted) {
+  *accepted = 0;
+  if (scans.empty() || T_world_odom.size() != scans.size()) return {};
+  const auto steps = scanMatchedSteps(scans, T_world_odom, cfg, accept);
+  coral::Isometries chain = {T_world_odom[0]};
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    *accepted += steps[k] ? 1 : 0;
+    chain.push_back(chain.back() *
+                    (steps[k] ? *steps[k] : T_world_odom[k].inverse() * T_world_odom[k + 1]));
   }
   return chain;
+}
+
+bool calibratedOdometry(const std::vector<TrainingScan>& scans,
+                        const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                        const LoopDecision& accept, coral::Isometries* calibrated,
+                        OdometryYawModel* model, std::string* error) {
+  // 20 steps: a few turns and straights; the logs give hundreds.
+  if (!fitOdometryYaw(T_world_odom, scanMatchedSteps(scans, T_world_odom, cfg, accept), 20, model,
+                      error))
+    return false;
+  *calibrated = correctOdometryYaw(T_world_odom, *model);
+  return true;
 }
 
 }  // namespace eval

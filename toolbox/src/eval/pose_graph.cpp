@@ -297,17 +297,19 @@ bool optimizePrunedPoseGraph(std::vector<PoseGraphEdge> edges, const PoseGraphCo
 
 namespace {
 
-// Solves sum_e w_e (u[to] - u[from] - rhs_e)^2 + prior * sum_k (u[k] - u0[k])^2 for u, with
-// u[0] held at u0[0] (a large weight). The weak prior only places nodes no edge reaches.
+// The linear start's weights on each node's own start: node 0 held (the gauge), the others a
+// weak prior that only places nodes no edge reaches.
+constexpr double kWeakPrior = 1e-9, kAnchor = 1e12;
+
+// Solves sum_e w_e (u[to] - u[from] - rhs_e)^2 + the start's weights * (u[k] - u0[k])^2 for u.
 bool linearChain(const std::vector<PoseGraphEdge>& edges, const std::vector<double>& weight,
                  const std::vector<double>& rhs, const std::vector<double>& u0,
                  std::vector<double>* u) {
   const int n = static_cast<int>(u0.size());
-  constexpr double kPrior = 1e-9, kAnchor = 1e12;
   std::vector<Eigen::Triplet<double>> t;
   Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
   for (int k = 0; k < n; ++k) {
-    const double w = k == 0 ? kAnchor : kPrior;
+    const double w = k == 0 ? kAnchor : kWeakPrior;
     t.emplace_back(k, k, w);
     b[k] += w * u0[k];
   }
@@ -345,13 +347,12 @@ bool planarLinearStart(const std::vector<PoseGraphEdge>& edges, coral::Isometrie
   // edge's rotation a linear constraint R_j = R_i R_ij between them, solved by linear least
   // squares and then normalised. No angle is unwrapped, so no 2 pi is guessed (the relaxation
   // Carlone et al. 2015 found the most accurate start for rotations).
-  constexpr double kPrior = 1e-9, kAnchor = 1e12;  // the weak prior places unreached nodes
   std::vector<double> yaw0(n);
   for (int k = 0; k < n; ++k) yaw0[k] = coral::yawOf((*poses)[k].linear());
   std::vector<Eigen::Triplet<double>> t;
   Eigen::VectorXd b = Eigen::VectorXd::Zero(2 * n);
   for (int k = 0; k < n; ++k) {
-    const double w = k == 0 ? kAnchor : kPrior;
+    const double w = k == 0 ? kAnchor : kWeakPrior;
     for (int r = 0; r < 2; ++r) t.emplace_back(2 * k + r, 2 * k + r, w);
     b[2 * k] += w * std::cos(yaw0[k]);
     b[2 * k + 1] += w * std::sin(yaw0[k]);

@@ -28,7 +28,7 @@
 //       (--keyframes DIR | --carmen LOG.clf.bz2 --corrected POSES.csv)
 //       [--rows all|even|odd] [--registration gicp|ndt|icp (3D) | icp|point_to_line (2D)]
 //       [--out FILE.csv] [--out_dir DIR] [--prune TOLERANCES] [--pcm PROBABILITY]
-//       [--lookalikes N] [--timing]
+//       [--lookalikes N] [--timing] [--calibrate_odometry]
 // Keyframes: DIR/optimized_poses.txt is the reference, DIR/odom_poses.txt the odometry.
 // CARMEN (eval/carmen_loops.hpp): the graph nodes are the scans with corrected poses, the
 // log's raw odometry the odometry, the reference the graph of the benchmark relations; the
@@ -36,6 +36,11 @@
 // registered again from a perturbed pose (labelled against the relation), edges between the
 // graph nodes their raw scans hang off (eval/log_nodes.hpp).
 // --rows even|odd: only every other candidate (tuning / held-out halves of the gate table).
+// --calibrate_odometry (CARMEN): the graph nodes' odometry steps registered again and judged by
+// the preset's stream verdict (eval::scanMatchedSteps); the odometry's yaw gain and yaw bias per
+// metre fitted on the steps it accepts (eval::fitOdometryYaw) and corrected on every step before
+// the graphs, the odometry check of --pcm included, as a back end calibrates its odometry. The
+// reference (the relation graph) keeps the raw odometry.
 // --lookalikes N: look-alike scan pairs, each registered from every heading (default 40 in 3D,
 // 60 in 2D: eval::evaluationCandidates). They are spread evenly over the qualifying pairs, so
 // a multiple of the default holds the default's pairs and new ones (a larger false set).
@@ -55,6 +60,7 @@
 #include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/carmen_loops.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
+#include "coral_introspection/eval/incremental_loops.hpp"
 #include "coral_introspection/eval/keyframe_sequence.hpp"
 #include "coral_introspection/eval/loop_gates.hpp"
 #include "coral_introspection/eval/pairwise_consistency.hpp"
@@ -71,7 +77,8 @@ constexpr const char* kUsage =
     "usage: coral_loop_eval --config PRESET.yaml (--keyframes DIR | --carmen LOG.clf.bz2 "
     "--corrected POSES.csv) [--rows all|even|odd] [--registration gicp|ndt|icp (3D, default "
     "gicp) | icp|point_to_line (2D, default icp)] [--out FILE.csv] [--out_dir DIR] "
-    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--lookalikes N] [--timing]";
+    "[--prune TOLERANCES (e.g. 3)] [--pcm PROBABILITY (e.g. 0.99)] [--lookalikes N] [--timing] "
+    "[--calibrate_odometry (--carmen)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_loop_eval", msg, kUsage); }
 
@@ -224,7 +231,7 @@ int main(int argc, char** argv) {
           argc, argv,
           {"--config", "--keyframes", "--carmen", "--corrected", "--out", "--out_dir", "--rows",
            "--registration", "--prune", "--pcm", "--lookalikes"},
-          {"--timing"}, &args, &err))
+          {"--timing", "--calibrate_odometry"}, &args, &err))
     return fail(err);
   if (args.help) {
     std::printf("%s\n", kUsage);
@@ -238,6 +245,9 @@ int main(int argc, char** argv) {
     return fail("--config and either --keyframes or --carmen with --corrected are required");
   std::string rows;
   if (!eval::choiceOption(args, "--rows", {"all", "even", "odd"}, &rows, &err)) return fail(err);
+  const bool calibrate_odometry = args.flag("--calibrate_odometry");
+  if (calibrate_odometry && carmen.empty())
+    return fail("--calibrate_odometry needs --carmen (it calibrates a log's wheel odometry)");
   // An optional number whose config validates it (absent: that back-end check is not run).
   auto checked = [&](const char* name, double* value,
                      const std::function<std::string()>& problems) {
@@ -296,6 +306,20 @@ int main(int argc, char** argv) {
         "corrected poses' %.3f m / %.2f deg; ATE between the two %.3f m)\n",
         f.edges, f.own.translation, f.own.rotation_deg, f.corrected.translation,
         f.corrected.rotation_deg, set.ate_reference_corrected);
+  }
+  if (calibrate_odometry) {
+    auto stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d*) {
+      const online::PairJudgement j =
+          online::judgePair(set.scans[c.a].scan, set.scans[c.b].scan, c.T_a_b, node.online, false);
+      return j.verdict.valid && j.verdict.aligned;
+    };
+    eval::OdometryYawModel m;
+    if (!eval::calibratedOdometry(set.scans, set.odom, cand_cfg, stream, &set.odom, &m, &err))
+      return fail(err);
+    std::printf(
+        "odometry calibrated on %d of %zu steps (scan matched, accepted by the stream verdict): "
+        "yaw error %.4f rad per rad turned %+.4f rad per m; step yaw rms %.4f -> %.4f rad\n",
+        m.steps, set.scans.size() - 1, m.gain, m.bias_per_m, m.rms_before, m.rms_after);
   }
   const std::vector<eval::TrainingScan>& scans = set.scans;
   const coral::Isometries &ref = set.ref, &odom = set.odom;

@@ -21,7 +21,8 @@
 //      loop_closure answers it (online::judgePair with coral::loopClosureVerdict); --gate
 //      fitness instead accepts PCL's fitness score <= --max_fitness (LIO-SAM's 0.3), --gate
 //      none every candidate, for comparison; --front_end scan_matching first replaces each odometry
-//      step by its registration where the stream verdict accepts it;
+//      step by its registration where the stream verdict accepts it, --front_end calibrated
+//      keeps the odometry with its yaw calibrated on those steps (eval::calibratedOdometry);
 //   4. a pose graph of the odometry edges and the accepted loop edges (the pose the verdict
 //      offers when it accepts a registered one, else the candidate's), optimised with Ceres
 //      (eval/pose_graph.hpp), written as OUT_DIR/trajectory.tum and trajectory.kitti, and every
@@ -37,7 +38,8 @@
 // error of both (Kuemmerle et al. 2009, eval/log_nodes.hpp).
 //   rosrun coral_introspection coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml]
 //       (--keyframes DIR | --carmen LOG [--keyframe_distance M] [--keyframe_angle DEG])
-//       --out_dir DIR [--front_end odometry|scan_matching] [--proposal odometry|estimate]
+//       --out_dir DIR [--front_end odometry|scan_matching|calibrated] [--proposal
+//       odometry|estimate]
 //       [--registration R] [--radius M] [--min_gap N] [--max_candidates N] [--lookalikes N]
 //       [--gate verdict|fitness|none] [--max_fitness F] [--pcm PROBABILITY]
 //       [--reference FILE | --relations FILE]
@@ -70,7 +72,8 @@ namespace {
 constexpr const char* kUsage =
     "usage: coral_pose_graph --config PRESET.yaml [--classifier FILE.yaml] (--keyframes DIR | "
     "--carmen LOG.clf[.bz2] [--keyframe_distance M (default 1)] [--keyframe_angle DEG (default "
-    "30)]) --out_dir DIR [--front_end odometry|scan_matching (default odometry)] [--proposal "
+    "30)]) --out_dir DIR [--front_end odometry|scan_matching|calibrated (default odometry)] "
+    "[--proposal "
     "odometry|estimate (default: odometry for --keyframes, estimate for --carmen)] "
     "[--registration gicp|ndt|icp (3D, default gicp) | icp|point_to_line (2D, default icp)] "
     "[--radius M (default 3)] [--min_gap N (keyframes, default 50; 30 for --carmen)] "
@@ -131,12 +134,15 @@ int main(int argc, char** argv) {
     return fail("--reference goes with --keyframes (a CARMEN log is measured by --relations)");
   std::string err, gate, proposal, front_end;
   if (!eval::choiceOption(args, "--gate", {"verdict", "fitness", "none"}, &gate, &err) ||
-      !eval::choiceOption(args, "--front_end", {"odometry", "scan_matching"}, &front_end, &err) ||
+      !eval::choiceOption(args, "--front_end", {"odometry", "scan_matching", "calibrated"},
+                          &front_end, &err) ||
       !eval::choiceOption(args, "--proposal",
                           carmen.empty() ? std::vector<std::string>{"odometry", "estimate"}
                                          : std::vector<std::string>{"estimate", "odometry"},
                           &proposal, &err))
     return fail(err);
+  if (front_end == "calibrated" && carmen.empty())
+    return fail("--front_end calibrated needs --carmen (it calibrates a planar wheel odometry)");
   if (proposal == "estimate" && args.has("--max_candidates"))
     return fail(
         "--max_candidates goes with --proposal odometry (estimate proposes one "
@@ -220,16 +226,20 @@ int main(int argc, char** argv) {
   if (!csv) return fail("cannot write " + csv_path + " (does --out_dir exist?)");
 
   // The front end: each step of the odometry registered and put to the stream verdict (the
-  // package's use for odometry); an accepted registration replaces the step.
+  // package's use for odometry); an accepted registration replaces the step (scan_matching), or
+  // the accepted ones calibrate the odometry's yaw (calibrated).
   int steps_matched = 0;
-  if (front_end == "scan_matching") {
-    auto stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d*) {
-      const online::PairJudgement j =
-          online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, node.online, false);
-      return j.verdict.valid && j.verdict.aligned;
-    };
+  eval::OdometryYawModel yaw_model;
+  auto stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d*) {
+    const online::PairJudgement j =
+        online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, node.online, false);
+    return j.verdict.valid && j.verdict.aligned;
+  };
+  if (front_end == "scan_matching")
     odom = eval::scanMatchedOdometry(scans, odom, cand, stream, &steps_matched);
-  }
+  if (front_end == "calibrated" &&
+      !eval::calibratedOdometry(scans, odom, cand, stream, &odom, &yaw_model, &err))
+    return fail(err);
 
   // 3. The gate, asked about one registered candidate.
   auto decide = [&](const eval::LoopCandidate& c) {
@@ -394,6 +404,13 @@ int main(int argc, char** argv) {
         "front end: %d of %zu odometry steps replaced by their registration (the stream "
         "verdict accepted it)\n",
         steps_matched, scans.size() - 1);
+  if (front_end == "calibrated")
+    std::printf(
+        "front end: odometry yaw calibrated on %d of %zu steps (registered, accepted by the "
+        "stream verdict): %.4f rad per rad turned %+.4f rad per m; step yaw rms %.4f -> %.4f "
+        "rad\n",
+        yaw_model.steps, scans.size() - 1, yaw_model.gain, yaw_model.bias_per_m,
+        yaw_model.rms_before, yaw_model.rms_after);
   if (!ref.empty())
     std::printf("ATE against %s: odometry %.3f m, graph %.3f m\n", reference.c_str(),
                 eval::absoluteTrajectoryError(odom, ref, dim),

@@ -11,10 +11,12 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "coral_introspection/eval/loop_candidates.hpp"
+#include "coral_introspection/eval/odometry_calibration.hpp"
 #include "coral_introspection/eval/pose_graph.hpp"
 
 namespace coral_introspection {
@@ -52,16 +54,32 @@ bool closeLoopsIncrementally(const std::vector<TrainingScan>& scans,
                              IncrementalLoops* out, std::string* error,
                              const EdgeCheck& admit = {});
 
-// A scan-matching front end for wheel odometry (what a 2D SLAM's front end does before its back
-// end sees a keyframe): keyframe k registered onto k - 1 (registerPair, cfg's registration) from
-// the odometry's relative pose; when `accept` takes the registration (the stream verdict: the
-// package's use for odometry), it replaces the odometry's step, else the odometry's step stays.
-// Returns the chained poses (the first one the odometry's); *accepted counts the steps replaced.
-// Sizes must match (the result is empty otherwise).
+// A scan-matching front end's measurements of wheel odometry's steps: keyframe k registered onto
+// k - 1 (registerPair, cfg's registration) from the odometry's relative pose; element k - 1 holds
+// the registration when `accept` takes it (the stream verdict: the package's use for odometry),
+// else nothing. Sizes must match (the result is empty otherwise).
+std::vector<std::optional<Eigen::Isometry3d>> scanMatchedSteps(
+    const std::vector<TrainingScan>& scans, const coral::Isometries& T_world_odom,
+    const LoopCandidateConfig& cfg, const LoopDecision& accept);
+
+// The front end itself (what a 2D SLAM's front end does before its back end sees a keyframe):
+// the steps scanMatchedSteps measured replace the odometry's, the others stay. Returns the
+// chained poses (the first one the odometry's); *accepted counts the steps replaced. Sizes must
+// match (the result is empty otherwise).
 coral::Isometries scanMatchedOdometry(const std::vector<TrainingScan>& scans,
                                       const coral::Isometries& T_world_odom,
                                       const LoopCandidateConfig& cfg, const LoopDecision& accept,
                                       int* accepted);
+
+// The other front end: the wheel odometry kept, its yaw calibrated (fitOdometryYaw, at least 20
+// measured steps) on the steps scanMatchedSteps measured and corrected on every step
+// (correctOdometryYaw), as a back end calibrates its odometry before trusting its covariance.
+// False with *error when the fit refuses the steps (too few, or they do not tell the yaw gain
+// from the bias per metre).
+bool calibratedOdometry(const std::vector<TrainingScan>& scans,
+                        const coral::Isometries& T_world_odom, const LoopCandidateConfig& cfg,
+                        const LoopDecision& accept, coral::Isometries* calibrated,
+                        OdometryYawModel* model, std::string* error);
 
 }  // namespace eval
 }  // namespace coral_introspection
