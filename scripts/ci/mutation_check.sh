@@ -55,6 +55,8 @@ MUTATIONS=(
   "max_range never drops a point@include/coral_introspection/coral/point_filter.hpp@if \(max_range <= 0\.0\) return true;@return true;@test_coral_degenerate"
   "coarse probe ignores the registration from the pose@src/coral/coarse_probe.cpp@if \(!r\.registered \|\| r\.registered_size < 1\.0\) return r;@if (true) return r;@test_coarse_probe"
   "coarse probe judges poses above its band@src/coral/verdict.cpp@return gate\.coarse_below_probability >= 1\.0 \|\| p < gate\.coarse_below_probability;@return true;@test_coarse_probe"
+  "planar graph never keeps the linear start's solve@toolbox/src/eval/pose_graph.cpp@if \(linear\.final_cost < res\.final_cost\) \{@if (false) {@test_pose_graph"
+  "odometry yaw corrected the wrong way@toolbox/src/eval/odometry_calibration.cpp@AngleAxisd\(-err,@AngleAxisd(err,@test_odometry_calibration"
 )
 
 # One check at a time per work folder (fd 8; the build lock is released between mutants).
