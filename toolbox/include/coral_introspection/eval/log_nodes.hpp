@@ -59,10 +59,10 @@ constexpr double kLogOdometrySigmaT = 0.1, kLogOdometrySigmaR = 0.03;
 // as an edge (0.05 m, 0.01 rad), optimised with robustContinuationConfig from the odometry and
 // from the planar linear start, the lower cost kept (PoseGraphConfig::try_linear_start; from the
 // raw odometry alone the Intel graph stopped in a folded local minimum 9 m ATE from the
-// corrected poses, at 2.4x the cost; now 0.48 m). The corrected
-// poses of the Radish logs are one SLAM result: they reproduce the relations to 3-5 cm median
-// but disagree with them by decimetres in places; labels and ATE against this graph measure
-// against the relations. False with *error when the optimisation fails.
+// corrected poses, at 2.4x the cost; now 0.48 m). The corrected poses of the Radish logs are one
+// SLAM result: they reproduce the relations to 3-5 cm median but disagree with them by
+// decimetres in places; labels and ATE against this graph measure against the relations. False
+// with *error when the optimisation fails.
 struct RelationGraphFigures {
   int edges = 0;            // relations used as edges
   RelationError own;        // relation error of the result
