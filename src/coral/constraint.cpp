@@ -83,23 +83,6 @@ double weakestDirection(const std::vector<Shared>& pts, int dim, double k) {
 
 }  // namespace
 
-double beamSpacingShare(const Points& own, double reference_step_deg) {
-  if (!(reference_step_deg > 0.0)) return 1.0;
-  std::vector<double> bearings;  // [deg], about the scan's own origin
-  for (const Vec3& p : own)
-    if (p.allFinite() && p.head<2>().squaredNorm() > 0.0)
-      bearings.push_back(std::atan2(p.y(), p.x()) * 180.0 / M_PI);
-  std::sort(bearings.begin(), bearings.end());
-  std::vector<double> steps;
-  for (std::size_t i = 1; i < bearings.size(); ++i)
-    if (bearings[i] - bearings[i - 1] > kMinBeamStepDeg)
-      steps.push_back(bearings[i] - bearings[i - 1]);
-  if (steps.size() < 10) return 1.0;  // too few to tell: counted as they are
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  const double share = steps[steps.size() / 2] / reference_step_deg;
-  return std::abs(share - 1.0) < 0.1 ? 1.0 : share;
-}
-
 bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, double* weight,
                    double* spread) {
   *normal = Vec3::Zero();

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "coral_detail.hpp"
+#include "coral_introspection/coral/beam_spacing.hpp"
 #include "coral_introspection/coral/entropy.hpp"
 #include "coral_introspection/coral/moments_kernel.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
@@ -52,6 +53,8 @@ std::string CoralConfig::validate() const {
                max_abs_coordinate)
       .require(max_range >= 0.0 && max_range <= kMaxAbsCoordinate, "max_range",
                "in [0, 1e38] m (0 = off)", max_range)
+      .require(beam_step_deg >= 0.0 && beam_step_deg <= 90.0, "beam_step_deg",
+               "in [0, 90] deg (0 = off)", beam_step_deg)
       .require(max_points >= 1, "max_points", ">= 1", max_points)
       .require(merge_distance >= 0.0 && merge_distance < 1.0, "merge_distance", "in [0, 1) m",
                merge_distance)
@@ -308,6 +311,10 @@ bool detail::prepareClouds(const Scan& a, const Scan& b, const CoralConfig& cfg,
     res->num_non_finite += non_finite;
     res->num_out_of_range += out_of_range;
     res->num_beyond_max_range += beyond;
+    // A planar scan finer than the spacing the preset's bounds were chosen at, thinned to it.
+    if (cfg.dimension == 2)
+      clouds[s] = &thinToBeamStep(*clouds[s], scans[s]->origin, cfg.beam_step_deg, &out->beamed[s],
+                                  &res->num_beam_thinned);
     usable[s] = clouds[s]->size();
   }
   res->num_points_a = usable[0];

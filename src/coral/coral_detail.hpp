@@ -34,14 +34,15 @@ inline void setPoint(PointEntropy& pe, const Vec3& p, bool in_a, double radius) 
 // or at one of the buffers: not copyable.
 struct PreparedClouds {
   const Points* cloud[2] = {nullptr, nullptr};
-  Points storage[2], ranged[2], thinned[2], merged[2], voxels[2];
+  Points storage[2], ranged[2], beamed[2], thinned[2], merged[2], voxels[2];
   PreparedClouds() = default;
   PreparedClouds(const PreparedClouds&) = delete;
   PreparedClouds& operator=(const PreparedClouds&) = delete;
 };
 
 // Fills *out and the input counts of *res (num_points_*, num_used_*, num_non_finite,
-// num_out_of_range, num_beyond_max_range, num_thinned, num_merged); max_range is measured from
+// num_out_of_range, num_beyond_max_range, num_beam_thinned, num_thinned, num_merged); max_range
+// and the beam spacing (beam_step_deg, 2D) are measured from
 // each scan's origin. False, with res->reason, when a scan is refused (refuse_over_max_points).
 bool prepareClouds(const Scan& a, const Scan& b, const CoralConfig& cfg, PreparedClouds* out,
                    CoralResult* res);

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "coral_introspection/coral/beam_spacing.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
 namespace coral_introspection {
@@ -27,11 +28,24 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// A planar scan coarser than bin_deg would leave every other bin empty, and a point next to an
+// empty bin is untested ("unknown"): at 2 deg the term measured nothing at all (no result on
+// every ACES candidate, doc/loop_closure.md "Another beam spacing"). Its bins are then 1.1 beam
+// steps wide: any interval at least a step wide holds a beam of a fan, and finer bins keep the
+// test sharp (the nearest return of three bins is the reference).
+double planarBinDeg(const Points& pts, const Vec3& origin, int dimension, double bin_deg) {
+  if (dimension != 2) return bin_deg;
+  const double step = medianBeamStepDeg(pts, origin);
+  return std::isfinite(step) && step > 1.05 * bin_deg ? std::min(10.0, 1.1 * step) : bin_deg;
+}
+
 // The nearest return per direction bin of one scan, seen from its sensor.
 class RangeImage {
  public:
   RangeImage(const Points& pts, const Vec3& origin, int dimension, double bin_deg)
-      : origin_(origin), planar_(dimension == 2), bin_(bin_deg * M_PI / 180.0) {
+      : origin_(origin),
+        planar_(dimension == 2),
+        bin_(planarBinDeg(pts, origin, dimension, bin_deg) * M_PI / 180.0) {
     n_az_ = static_cast<int>(std::ceil(2.0 * M_PI / bin_));
     n_el_ = planar_ ? 1 : static_cast<int>(std::ceil(M_PI / bin_)) + 1;
     range_.assign(static_cast<std::size_t>(n_az_) * n_el_, std::numeric_limits<float>::infinity());

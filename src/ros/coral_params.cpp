@@ -50,6 +50,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("coral/query_seed", &o.coral.query_seed) && r.get("coral/threads", &o.coral.threads) &&
       r.get("coral/max_abs_coordinate", &o.coral.max_abs_coordinate) &&
       r.get("coral/max_range", &o.coral.max_range) &&
+      r.get("coral/beam_step_deg", &o.coral.beam_step_deg) &&
       r.get("coral/max_points", &o.coral.max_points) &&
       r.get("coral/refuse_over_max_points", &o.coral.refuse_over_max_points) &&
       r.get("coral/merge_distance", &o.coral.merge_distance) &&

@@ -26,15 +26,16 @@ std::vector<Segment> box(double x0, double y0, double x1, double y1) {
   return {{a, b}, {b, c}, {c, d}, {d, a}};
 }
 
-// A 360-degree planar scan with one beam per degree from `pose` (world x, y, yaw), points in
+// A 360-degree planar scan with one beam per step_deg from `pose` (world x, y, yaw), points in
 // the sensor frame (z = 0), 5 mm range noise from a fixed seed.
-Scan scan2d(const std::vector<Segment>& walls, double x, double y, double yaw, unsigned seed) {
+Scan scan2d(const std::vector<Segment>& walls, double x, double y, double yaw, unsigned seed,
+            double step_deg = 1.0) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, 0.005);
   Scan s;
   const Eigen::Vector2d o(x, y);
-  for (int i = 0; i < 360; ++i) {
-    const double a = (i + 0.5) * M_PI / 180.0;
+  for (int i = 0; i < static_cast<int>(std::lround(360.0 / step_deg)); ++i) {
+    const double a = (i + 0.5) * step_deg * M_PI / 180.0;
     const Eigen::Vector2d d(std::cos(yaw + a), std::sin(yaw + a));
     double best = std::numeric_limits<double>::infinity();
     for (const Segment& w : walls) {  // ray o + t d against segment p + u (q - p)
@@ -113,6 +114,28 @@ TEST(FreeSpace, CorridorSlidAlongItsAxisPutsEndWallsIntoFreeSpace) {
   EXPECT_GT(slid.conflict, 0.05);
   // Slid by less than the margin (0.5 m): nothing conflicts.
   EXPECT_EQ(conflict2d(a, b, truth * se2(-0.3, 0.0, 0.0)).conflicts, 0);
+}
+
+// A scanner coarser than the 1 deg bins left every other bin empty, and a point next to an empty
+// bin is untested: the term had no result at 2 deg (every ACES candidate resampled to 2 deg).
+// Its bins are now 1.1 of its beam steps wide. Coarser beams see less: the slid corridor's end
+// walls are found at 2 deg, with fewer points than at 1 deg (FreeSpace.CorridorSlid...).
+TEST(FreeSpace, ACoarserScannerIsTestedInBinsOfItsSpacing) {
+  for (const double step : {2.0, 3.0}) {
+    const Scan a = scan2d(kCorridor, 4.0, 1.0, 0.0, 3, step),
+               b = scan2d(kCorridor, 7.0, 1.0, 0.0, 4, step);
+    const Eigen::Isometry3d truth = relative(4.0, 1.0, 0.0, 7.0, 1.0, 0.0);
+    const FreeSpaceResult ok = conflict2d(a, b, truth);
+    ASSERT_TRUE(ok.valid) << step << " deg: " << ok.tested << " tested";
+    EXPECT_GT(ok.tested, static_cast<int>(a.points.size()));  // most of both scans
+    EXPECT_EQ(ok.conflicts, 0);
+    const FreeSpaceResult slid = conflict2d(a, b, truth * se2(-1.5, 0.0, 0.0));
+    ASSERT_TRUE(slid.valid);
+    if (step == 2.0) {
+      EXPECT_GE(slid.conflicts, 8);
+      EXPECT_GT(slid.conflict, 0.04);
+    }
+  }
 }
 
 TEST(FreeSpace, SwappingTheScansGivesTheSameConflict) {

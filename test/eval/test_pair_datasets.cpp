@@ -67,10 +67,8 @@ TEST(CarmenLog, PlainAndBzip2FilesAndBeamGeometry) {
     EXPECT_DOUBLE_EQ(scans[0].stamp, 10.5);
     EXPECT_DOUBLE_EQ(scans[1].stamp, 11.25);
     EXPECT_DOUBLE_EQ(scans[0].laser_pose.z(), 0.3);
-    LaserGeometry g;
-    g.angle_increment = M_PI / 2;  // 3 beams: -90, 0, +90 deg
-    const Points p = laserPoints(scans[0], g);
-    ASSERT_EQ(p.size(), 2u);  // the 50 m reading is "no return"
+    const Points p = laserPoints(scans[0], LaserGeometry());  // 3 beams: -90, 0, +90 deg
+    ASSERT_EQ(p.size(), 2u);                                  // the 50 m reading is "no return"
     EXPECT_TRUE(p[0].isApprox(Vec3(0.0, -1.0, 0.0), 1e-12));
     EXPECT_TRUE(p[1].isApprox(Vec3(0.0, 2.0, 0.0), 1e-12));
   }
@@ -84,6 +82,40 @@ TEST(CarmenLog, PlainAndBzip2FilesAndBeamGeometry) {
   EXPECT_FALSE(readCarmenLog("/nonexistent.clf", &scans, &err));
   std::remove(plain.c_str());
   std::remove(bz.c_str());
+}
+
+// A FLASER line carries only its number of readings; the spacing follows from it as CARMEN's
+// readers guess it. Read at a fixed 1 deg, a 361-beam scan would spread over 360 deg.
+TEST(CarmenLog, BeamSpacingFollowsTheNumberOfReadings) {
+  const double deg = M_PI / 180.0;
+  const LaserGeometry g;
+  struct Case {
+    std::size_t count, beam;
+    double bearing_deg;
+  };
+  for (const Case& c :
+       {Case{180, 0, -90.0}, Case{180, 90, 0.0}, Case{180, 179, 89.0}, Case{181, 180, 90.0},
+        Case{361, 180, 0.0}, Case{361, 360, 90.0}, Case{360, 1, -89.5}, Case{401, 0, -50.0},
+        Case{401, 400, 50.0}, Case{91, 45, 0.0}, Case{91, 90, 90.0}})
+    EXPECT_NEAR(g.bearing(c.count, c.beam), c.bearing_deg * deg, 1e-12)
+        << c.count << " beams, beam " << c.beam;
+  // Points of a 361-beam scan: a half circle, none behind the scanner.
+  CarmenLaserScan scan;
+  scan.ranges.assign(361, 2.0);
+  const Points p = laserPoints(scan, g);
+  ASSERT_EQ(p.size(), 361u);
+  for (const Vec3& q : p) EXPECT_GE(q.x(), -1e-9);
+  EXPECT_TRUE(p[180].isApprox(Vec3(2.0, 0.0, 0.0), 1e-12));
+  // A stated geometry is used as it is.
+  LaserGeometry fixed;
+  fixed.start_angle = 0.0;
+  fixed.angle_increment = 2.0 * deg;
+  EXPECT_NEAR(fixed.bearing(361, 10), 20.0 * deg, 1e-12);
+  fixed.angle_increment = 0.0;
+  EXPECT_NE(fixed.validate().find("angle_increment"), std::string::npos);
+  fixed.angle_increment = NAN;
+  fixed.start_angle = INFINITY;
+  EXPECT_NE(fixed.validate().find("start_angle"), std::string::npos);
 }
 
 TEST(CarmenLog, RelationsBecomePairsWithTheEarlierScanFirst) {

@@ -167,6 +167,7 @@ std::string describe(const NodeConfig& c) {
     << "\ncoral.threads = " << c.online.coral.threads
     << "\ncoral.max_abs_coordinate = " << c.online.coral.max_abs_coordinate
     << "\ncoral.max_range = " << c.online.coral.max_range
+    << "\ncoral.beam_step_deg = " << c.online.coral.beam_step_deg
     << "\ncoral.max_points = " << c.online.coral.max_points
     << "\ncoral.refuse_over_max_points = " << c.online.coral.refuse_over_max_points
     << "\ncoral.merge_distance = " << c.online.coral.merge_distance

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <random>
 
 #include "coral_introspection/eval/carmen_loops.hpp"
 #include "coral_introspection/eval/cloud_io.hpp"
@@ -507,6 +508,85 @@ TEST(LoopClosure, Lidar2dNoReturnReadingsAtTheMaximumRangeAreDropped) {
   EXPECT_GE(judged, 150);
   EXPECT_GE(lost_without, accepted / 20);
   EXPECT_EQ(named_free_space, lost_without);
+}
+
+// A scanner of finer beam spacing than the 1 deg logs lidar_2d's bounds were chosen on. Every
+// ACES FLASER line rewritten as 361 beams of 0.5 deg (the readings at the even beams, at each
+// odd beam the range where the line through its neighbours' points meets it plus 1 cm of noise,
+// or no return across a depth edge; scripts/experiments/resample_carmen_beams.py writes the same
+// as a log): read by the beam count (CARMEN's rule), thinned back to 1 deg by the preset's
+// coral/beam_step_deg, every loop relation as it is and moved a tolerance along x is judged as
+// at 1 deg. Without the thinning the verdict sees twice the points and some verdicts change
+// (printed; measured 2026-12-07: doc/loop_closure.md "Another beam spacing").
+TEST(LoopClosure, Lidar2dAFinerScannerIsJudgedAtThePresetsSpacing) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  const std::string log_path = coral_data + "/aces.clf.bz2";
+  std::vector<eval::CarmenLaserScan> log;
+  std::string err;
+  ASSERT_TRUE(eval::readCarmenLog(log_path, &log, &err)) << err;
+  std::vector<eval::CarmenLaserScan> fine = log;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  const eval::LaserGeometry g;
+  auto valid = [&](double r) { return r >= g.min_range && r < g.max_range; };
+  for (eval::CarmenLaserScan& l : fine) {
+    const std::vector<double>& r = l.ranges;
+    ASSERT_EQ(r.size(), 180u);
+    std::vector<double> out(361, 81.83);
+    for (std::size_t i = 0; i < 180; ++i) {
+      out[2 * i] = r[i];
+      if (i + 1 < 180 && valid(r[i]) && valid(r[i + 1]) &&
+          std::abs(r[i] - r[i + 1]) <= 0.05 + 0.05 * std::min(r[i], r[i + 1]))
+        out[2 * i + 1] =
+            2.0 * r[i] * r[i + 1] * std::cos(0.5 * M_PI / 180.0) / (r[i] + r[i + 1]) + noise(rng);
+    }
+    l.ranges = out;
+  }
+  std::vector<eval::TrainingScan> scans, fine_scans;
+  std::vector<eval::ScanPair> pairs, fine_pairs;
+  ASSERT_TRUE(
+      eval::loopRelationPairs(log, eval::relationsPath(log_path), g, 30, &scans, &pairs, &err))
+      << err;
+  ASSERT_TRUE(eval::loopRelationPairs(fine, eval::relationsPath(log_path), g, 30, &fine_scans,
+                                      &fine_pairs, &err))
+      << err;
+  ASSERT_EQ(pairs.size(), fine_pairs.size());
+  ros_adapters::NodeConfig node;
+  coral_test::loadPreset("lidar_2d", &node);
+  ASSERT_EQ(node.online.coral.beam_step_deg, 1.0);
+  online::IntrospectorConfig loop = node.online;
+  loop.verdict = coral::loopClosureVerdict(node.online.verdict);
+  online::IntrospectorConfig off = loop;
+  off.coral.beam_step_deg = 0.0;
+  int judged = 0, accepted = 0, changed_without = 0;
+  for (std::size_t k = 0; k < pairs.size(); k += coral_test::pairStride())
+    for (const double dx : {0.0, node.online.verdict.tolerance.translation}) {
+      const Eigen::Isometry3d T = pairs[k].T_a_b * coral::se2(dx, 0.0, 0.0);
+      const coral::Scan &a = scans[pairs[k].a].scan, &b = scans[pairs[k].b].scan;
+      const coral::Scan &fa = fine_scans[fine_pairs[k].a].scan,
+                        &fb = fine_scans[fine_pairs[k].b].scan;
+      ASSERT_GT(fa.points.size(), a.points.size() + a.points.size() / 2);
+      const online::PairJudgement at_1deg = online::judgePair(a, b, T, loop, false);
+      const online::PairJudgement thinned = online::judgePair(fa, fb, T, loop, false);
+      ++judged;
+      accepted += at_1deg.verdict.valid && at_1deg.verdict.aligned;
+      EXPECT_EQ(thinned.verdict.valid, at_1deg.verdict.valid) << "relation " << k << " dx " << dx;
+      EXPECT_EQ(thinned.verdict.aligned, at_1deg.verdict.aligned)
+          << "relation " << k << " dx " << dx << ": " << thinned.verdict.rejected_by << " / "
+          << at_1deg.verdict.rejected_by;
+      EXPECT_NEAR(thinned.verdict.probability, at_1deg.verdict.probability, 1e-6)
+          << "relation " << k << " dx " << dx;
+      EXPECT_EQ(thinned.verdict.coral.num_beam_thinned,
+                fa.points.size() + fb.points.size() - a.points.size() - b.points.size());
+      const coral::AlignmentVerdict raw = online::judgePair(fa, fb, T, off, false).verdict;
+      changed_without +=
+          (raw.valid && raw.aligned) != (at_1deg.verdict.valid && at_1deg.verdict.aligned);
+    }
+  std::cout << judged
+            << " ACES loop relations as they are and moved a tolerance, at 0.5 deg: " << accepted
+            << " accepted, as at 1 deg; without the thinning " << changed_without
+            << " verdicts change\n";
+  EXPECT_GE(judged, 2 * 100 / static_cast<int>(coral_test::pairStride()));
 }
 
 // The loop gate's refinement (lidar_2d loop_closure/max_refinement 0.5, coral/refinement.hpp)

@@ -13,6 +13,7 @@
 
 #include <limits>
 
+#include "coral_introspection/coral/beam_spacing.hpp"
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/tolerance.hpp"
 #include "coral_introspection/coral/types.hpp"
@@ -42,13 +43,8 @@ bool surfaceNormal(const Eigen::Matrix3d& cov, int dimension, Vec3* normal, doub
 
 // The term counts points: a 2D scanner with twice the beams per degree sees twice the points
 // on the same wall and would pass a bound chosen on the other at half the geometry (lidar_2d's
-// was chosen on 180-beam scans of 1 deg spacing: Intel, ACES). A planar scan's beam spacing is
-// the median step between its points' sorted bearings about its origin (its sensor frame); its
-// share is that step over reference_step_deg: 1 within 10 % of it (a scanner of the
-// reference spacing keeps its values exactly), for fewer than 11 distinct bearings, and for
-// reference_step_deg <= 0.
-constexpr double kMinBeamStepDeg = 1e-4;  // [deg] bearings closer than this are one beam
-double beamSpacingShare(const Points& own, double reference_step_deg);
+// was chosen on 180-beam scans of 1 deg spacing: Intel, ACES). Each point then counts by its
+// share (beamSpacingShare, beam_spacing.hpp).
 
 // a and b each in their own sensor frame, b moved into a's frame by T_a_b (as
 // freeSpaceConflict takes them). A point is shared when it has

@@ -55,6 +55,14 @@ struct CoralConfig {
   // in front of it is empty, and the free-space term (free_space.hpp) rejects right pairs
   // whose other scan saw a wall there (doc/loop_closure.md "No-return readings").
   double max_range = 0.0;
+  // [deg] dimension 2: the beam spacing the preset's bounds were chosen at (lidar_2d: 1 deg,
+  // the Radish logs' 180 beams). A scan whose own spacing (medianBeamStepDeg, beam_spacing.hpp)
+  // is finer, k = round(beam_step_deg / spacing) >= 2, keeps every k-th beam (a 0.5 deg scanner
+  // becomes a 1 deg one), counted in num_beam_thinned: denser scans give CorAl's neighbourhoods
+  // more points and the classifier other entropies (on the 2D logs resampled to 0.5 deg the
+  // verdict grew more lenient: doc/loop_closure.md "Another beam spacing"). Coarser scans are
+  // used as they are. 0 = off.
+  double beam_step_deg = 0.0;
   // [points per scan] of usable input; a larger scan is thinned by a deterministic stride
   // (or, with refuse_over_max_points, the pair is not judged): bounds the work per pair.
   int max_points = 1000000;
@@ -107,6 +115,7 @@ struct CoralResult {
   // was not usable.
   std::size_t num_non_finite = 0, num_out_of_range = 0, num_thinned = 0, num_merged = 0;
   std::size_t num_beyond_max_range = 0;  // dropped by max_range (no-return readings)
+  std::size_t num_beam_thinned = 0;      // dropped by beam_step_deg (a finer 2D scanner)
   std::size_t num_degenerate = 0;
   // Work of the neighbour search: candidate points distance-tested, over all queries (own
   // and other cloud). Bounded work is asserted on this, not on time.

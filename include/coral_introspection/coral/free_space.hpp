@@ -18,7 +18,8 @@ namespace coral {
 struct FreeSpaceConfig {
   // [deg] angular bin of the range images (azimuth; elevation too in 3D). Coarser than the
   // scanner's resolution so that a seen surface leaves no empty bins: 1 deg covers 2D laser
-  // scanners (0.25-1 deg) and 64-beam lidars (0.4 deg vertical); a point is tested against
+  // scanners (0.25-1 deg) and 64-beam lidars (0.4 deg vertical); a planar scan of coarser beam
+  // spacing (medianBeamStepDeg) gets bins of 1.1 of its steps; a point is tested against
   // the nearest return of its bin and both neighbours (3 x 3 in 3D), which also absorbs
   // grazing surfaces and depth edges.
   double bin_deg = 1.0;

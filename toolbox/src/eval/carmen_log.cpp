@@ -18,7 +18,10 @@ namespace eval {
 
 std::string LaserGeometry::validate() const {
   return coral::Problems()
-      .require(angle_increment > 0.0, "angle_increment", "> 0 rad", angle_increment)
+      .require(std::isnan(angle_increment) || angle_increment > 0.0, "angle_increment",
+               "> 0 rad (NaN: from the beam count)", angle_increment)
+      .require(!std::isinf(start_angle), "start_angle", "finite (NaN: from the beam count)",
+               start_angle)
       .require(min_range >= 0.0 && min_range < max_range, "min_range", "in [0, max_range) m",
                min_range)
       .str();
@@ -97,10 +100,30 @@ bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
   return true;
 }
 
+double LaserGeometry::bearing(std::size_t count, std::size_t i) const {
+  // CARMEN's guess (logtools' carmen_laser_guess_fov / _angle_increment) for the spacing; the
+  // fan starts at minus half the mode's full field (180 or 100 deg).
+  const double deg = M_PI / 180.0;
+  const bool narrow = count == 400 || count == 401;
+  double inc = angle_increment;
+  if (std::isnan(inc)) {
+    if (count == 180 || count == 181)
+      inc = deg;
+    else if (count == 360 || count == 361)
+      inc = 0.5 * deg;
+    else if (narrow)
+      inc = 0.25 * deg;
+    else
+      inc = count > 1 ? M_PI / static_cast<double>(count - 1) : 0.0;
+  }
+  const double start = std::isnan(start_angle) ? (narrow ? -50.0 * deg : -M_PI / 2.0) : start_angle;
+  return start + static_cast<double>(i) * inc;
+}
+
 coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
   coral::Points p;
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double r = scan.ranges[i], a = g.start_angle + static_cast<double>(i) * g.angle_increment;
+    const double r = scan.ranges[i], a = g.bearing(scan.ranges.size(), i);
     if (r >= g.min_range && r < g.max_range) p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
   }
   return p;

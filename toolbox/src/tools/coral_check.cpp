@@ -235,7 +235,8 @@ int main(int argc, char** argv) {
       "\"h_joint\": %.6f, \"h_sep\": %.6f, \"overlap\": %.6f, \"num_points_a\": %zu, "
       "\"num_points_b\": %zu, \"seconds\": %.6f, \"quality_stderr\": %.6f, \"num_valid\": %zu, "
       "\"num_queries\": %zu, \"num_non_finite\": %zu, \"num_out_of_range\": %zu, "
-      "\"num_beyond_max_range\": %zu, \"num_thinned\": %zu, \"num_merged\": %zu, "
+      "\"num_beyond_max_range\": %zu, \"num_beam_thinned\": %zu, \"num_thinned\": %zu, "
+      "\"num_merged\": %zu, "
       "\"num_degenerate\": %zu, \"reason\": \"%s\", "
       "\"method\": \"%s\", \"loop_closure\": %s, \"rejected_by\": \"%s\", "
       "\"free_space_conflict\": %s, \"constraint\": %s, \"refinement\": %.6f, "
@@ -243,8 +244,8 @@ int main(int argc, char** argv) {
       r.valid ? "true" : "false", out.verdict.valid && out.verdict.aligned ? "true" : "false",
       out.verdict.valid ? out.verdict.probability : 0.0, r.quality, r.h_joint, r.h_sep, r.overlap,
       r.num_points_a, r.num_points_b, median, r.quality_stderr, r.num_valid, r.num_queries,
-      r.num_non_finite, r.num_out_of_range, r.num_beyond_max_range, r.num_thinned, r.num_merged,
-      r.num_degenerate, jsonEscape(out.reason).c_str(),
+      r.num_non_finite, r.num_out_of_range, r.num_beyond_max_range, r.num_beam_thinned,
+      r.num_thinned, r.num_merged, r.num_degenerate, jsonEscape(out.reason).c_str(),
       coral::verdictMethodName(cfg.online.verdict.method), loop_closure ? "true" : "false",
       jsonEscape(out.verdict.rejected_by).c_str(), free_space.c_str(), cs,
       out.verdict.refined ? out.verdict.refinement.size : 0.0, refined.c_str());

@@ -21,15 +21,21 @@ struct CarmenLaserScan {
   Eigen::Vector3d laser_pose{};  // x, y, theta of the log (raw odometry) [m, m, rad]
 };
 
-// Beam geometry of the FLASER messages. Defaults: the SICK LMS of the Radish logs, 180
-// beams of 1 deg from -90 deg (checked on ACES: 0.5 deg offsets or a 180/179 deg spacing
-// fit the relations no better). Readings >= max_range are "no return".
+// Beam geometry of the FLASER messages. A FLASER line gives only its number of readings, so by
+// default (NaN) the spacing follows from it as CARMEN's readers guess it for a SICK LMS
+// (carmen_laser_guess_angle_increment): 180 / 181 beams 1 deg, 360 / 361 0.5 deg, both over 180
+// deg from -90 deg; 400 / 401 0.25 deg over 100 deg from -50 deg; any other count 180 deg over
+// count - 1 steps. The Radish logs' 180 beams thus lie at -90 + i deg (checked on ACES: 0.5 deg
+// offsets or a 180/179 deg spacing fit the relations no better). A fixed spacing read as 1 deg
+// would spread a 361-beam scan over 360 deg. Readings >= max_range are "no return".
 struct LaserGeometry {
-  double start_angle = -M_PI / 2.0;     // [rad] beam 0, counter-clockwise from x
-  double angle_increment = M_PI / 180;  // [rad]
-  double min_range = 0.05;              // [m]
-  double max_range = 49.9;              // [m] (ACES saturates at 50.0 m)
-  std::string validate() const;         // empty when valid
+  double start_angle = NAN;      // [rad] beam 0, counter-clockwise from x; NaN: from the count
+  double angle_increment = NAN;  // [rad] between beams; NaN: from the count
+  double min_range = 0.05;       // [m]
+  double max_range = 49.9;       // [m] (ACES saturates at 50.0 m)
+  std::string validate() const;  // empty when valid
+  // Beam i's bearing [rad] in a scan of `count` readings.
+  double bearing(std::size_t count, std::size_t i) const;
 };
 
 // Every FLASER line, in file order. False with *error on a missing/corrupt file or a
