@@ -29,7 +29,9 @@ std::string requestKindError(const CheckAlignment::Request& req, InputType type)
                                   {ia, "image_a"},
                                   {ib, "image_b"}})
     if (set) held += std::string(held.empty() ? "" : ", ") + name;
-  const bool clouds_wanted = type == InputType::kPointCloud;
+  // A laser-scan nodelet judges requests of planar point clouds (the service has no LaserScan
+  // fields; a client converts them as it sends them).
+  const bool clouds_wanted = type != InputType::kPolarImage;
   const std::string wanted = clouds_wanted ? "cloud_a and cloud_b" : "image_a and image_b";
   const std::string self = "this nodelet is configured for " + inputKindName(type);
   if (held.empty())

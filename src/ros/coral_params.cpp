@@ -20,7 +20,7 @@ std::vector<std::string> methodNames() {
 
 bool readAll(config::ParamTree& r, NodeConfig* c) {
   online::IntrospectorConfig& o = c->online;
-  int input = c->input_type == InputType::kPolarImage ? 1 : 0;
+  int input = static_cast<int>(c->input_type);  // InputType order
   int agg = o.coral.aggregation == coral::Aggregation::kMedian ? 1 : 0;
   int fmt = c->polar_format == PolarFormat::kPlain ? 1 : 0;
   int dir = c->polar.direction == radar::AzimuthDirection::kClockwise ? 1 : 0;
@@ -29,7 +29,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
   coral::RestartConfig& rs = o.verdict.restart;     // restart/, registration/
   int coarse_points = static_cast<int>(rs.coarse_points);
   const bool ok =
-      r.getChoice("input_type", {"pointcloud", "polar_image"}, &input) &&
+      r.getChoice("input_type", {"pointcloud", "polar_image", "laser_scan"}, &input) &&
       r.get("fixed_frame", &c->fixed_frame) && r.get("queue_size", &c->queue_size) &&
       r.get("tf_timeout", &c->tf_timeout) && r.get("time_budget", &c->time_budget) &&
       r.get("testing/pair_delay", &c->testing_pair_delay) &&
@@ -150,7 +150,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("calibration/prior_weight", &o.calibration.prior_weight) &&
       r.get("calibration/accept_score", &o.calibration.accept_score) &&
       r.get("calibration/output_file", &o.calibration.output_file);
-  c->input_type = input == 1 ? InputType::kPolarImage : InputType::kPointCloud;
+  c->input_type = static_cast<InputType>(input);
   o.verdict.method = static_cast<coral::VerdictMethod>(method);
   o.coral.aggregation = agg == 1 ? coral::Aggregation::kMedian : coral::Aggregation::kMean;
   c->polar_format = fmt == 1 ? PolarFormat::kPlain : PolarFormat::kOxford;
@@ -199,6 +199,12 @@ std::string NodeConfig::validate() const {
       add("coral/dimension must be 2 for input_type polar_image (radar features are planar; got " +
           std::to_string(online.coral.dimension) + ")");
   }
+  if (input_type == InputType::kLaserScan && online.coral.dimension != 2)
+    add("coral/dimension must be 2 for input_type laser_scan (a laser scan is planar; got " +
+        std::to_string(online.coral.dimension) + "): use config/lidar_2d.yaml");
+  if (input_type == InputType::kLaserScan && online.doppler.enabled)
+    add("doppler/enabled needs a radial-velocity field, which a LaserScan has not: use "
+        "input_type pointcloud");
   if (online.doppler.enabled && velocity_field.empty())
     add("doppler/velocity_field must not be empty when doppler/enabled");
   return e.str();

@@ -20,8 +20,14 @@ void setHeader(const std_msgs::Header& h, online::ScanInput* s) {
 }  // namespace
 
 std::string inputKindName(InputType type) {
-  return type == InputType::kPointCloud ? "point clouds (input_type pointcloud)"
-                                        : "polar radar images (input_type polar_image)";
+  switch (type) {
+    case InputType::kPolarImage:
+      return "polar radar images (input_type polar_image)";
+    case InputType::kLaserScan:
+      return "laser scans (input_type laser_scan)";
+    default:
+      return "point clouds (input_type pointcloud)";
+  }
 }
 
 bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, SensorScan* out,
@@ -38,6 +44,48 @@ bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, 
   if (out->scan.features.points.empty())
     return coral::fail(error,
                        stats.non_finite > 0 ? "only NaN/Inf points" : "empty cloud (0 points)");
+  return true;
+}
+
+bool toSensorScan(const sensor_msgs::LaserScan& scan, const NodeConfig&, SensorScan* out,
+                  std::string* error) {
+  *out = SensorScan();
+  setHeader(scan.header, &out->scan);
+  const double a0 = scan.angle_min, da = scan.angle_increment;
+  const double lo = scan.range_min, hi = scan.range_max;
+  std::ostringstream e;
+  if (!std::isfinite(a0) || !std::isfinite(da) || da == 0.0) {
+    e << "laser scan angle_min " << a0 << ", angle_increment " << da
+      << ": both must be finite and angle_increment non-zero";
+    return coral::fail(error, e.str());
+  }
+  const std::size_t n = scan.ranges.size();
+  if (n > 1 && std::abs(da) * static_cast<double>(n - 1) > 2.0 * M_PI + 1e-6) {
+    e << "laser scan of " << n << " readings " << da << " rad apart spans more than a full turn";
+    return coral::fail(error, e.str());
+  }
+  if (!(lo >= 0.0 && std::isfinite(hi) && hi > lo)) {
+    e << "laser scan range_min " << lo << ", range_max " << hi
+      << ": must satisfy 0 <= range_min < range_max, finite";
+    return coral::fail(error, e.str());
+  }
+  coral::Points& p = out->scan.features.points;
+  p.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = scan.ranges[i];
+    if (std::isnan(r)) {
+      ++out->dropped_non_finite;
+      continue;
+    }
+    if (!(r >= lo && r < hi)) continue;  // +-Inf, too close, at or past range_max: no return
+    const double a = a0 + static_cast<double>(i) * da;
+    p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+  }
+  if (p.empty()) {
+    e << "laser scan of " << n << " readings has none in [range_min, range_max) = [" << lo << ", "
+      << hi << ")";
+    return coral::fail(error, e.str());
+  }
   return true;
 }
 

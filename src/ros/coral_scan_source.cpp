@@ -3,6 +3,7 @@
 #include <ros/console.h>
 #include <ros/master.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -19,19 +20,32 @@ std::string describe(const std_msgs::Header& h) {
 
 std::string inputTopicTypeError(const std::string& topic, const std::string& published_type,
                                 InputType type) {
-  const bool clouds = type == InputType::kPointCloud;
-  const std::string wanted = clouds
-                                 ? ros::message_traits::DataType<sensor_msgs::PointCloud2>::value()
-                                 : ros::message_traits::DataType<sensor_msgs::Image>::value();
+  const std::string cloud = ros::message_traits::DataType<sensor_msgs::PointCloud2>::value(),
+                    laser = ros::message_traits::DataType<sensor_msgs::LaserScan>::value();
+  std::string wanted, hint;
+  switch (type) {
+    case InputType::kPolarImage:
+      wanted = ros::message_traits::DataType<sensor_msgs::Image>::value();
+      hint =
+          "remap polar_image to a mono8 polar image topic, or set input_type pointcloud and "
+          "remap scan";
+      break;
+    case InputType::kLaserScan:
+      wanted = laser;
+      hint = published_type == cloud ? "set input_type pointcloud for PointCloud2"
+                                     : "remap scan to a LaserScan topic";
+      break;
+    default:
+      wanted = cloud;
+      hint = published_type == laser ? "set input_type laser_scan (and config/lidar_2d.yaml) for "
+                                       "LaserScan"
+                                     : "remap scan to a PointCloud2 topic, or set input_type "
+                                       "polar_image and remap polar_image";
+  }
   if (published_type.empty() || published_type == wanted) return "";
   return "input topic " + topic + " carries " + published_type +
          ", but this nodelet is configured for " + inputKindName(type) + " and reads " + wanted +
-         " there: roscpp drops the connection, no scan arrives (" +
-         (clouds ? "remap scan to a PointCloud2 topic, or set input_type polar_image and remap "
-                   "polar_image"
-                 : "remap polar_image to a mono8 polar image topic, or set input_type pointcloud "
-                   "and remap scan") +
-         ")";
+         " there: roscpp drops the connection, no scan arrives (" + hint + ")";
 }
 
 ScanSource::ScanSource(ros::NodeHandle& nh, const NodeConfig& cfg, Stats* stats, Sink sink)
@@ -45,6 +59,8 @@ ScanSource::ScanSource(ros::NodeHandle& nh, const NodeConfig& cfg, Stats* stats,
       }) {
   if (cfg_.input_type == InputType::kPointCloud)
     setUp(cloud_sub_, cloud_filter_);
+  else if (cfg_.input_type == InputType::kLaserScan)
+    setUp(laser_sub_, laser_filter_);
   else
     setUp(image_sub_, image_filter_);
 }
@@ -52,12 +68,14 @@ ScanSource::ScanSource(ros::NodeHandle& nh, const NodeConfig& cfg, Stats* stats,
 ScanSource::~ScanSource() {
   cloud_sub_.unsubscribe();  // inputs before the filters they feed
   image_sub_.unsubscribe();
+  laser_sub_.unsubscribe();
   cloud_filter_.reset();
   image_filter_.reset();
+  laser_filter_.reset();
 }
 
 std::string ScanSource::topic() const {
-  return nh_.resolveName(cloud_filter_ ? "scan" : "polar_image");
+  return nh_.resolveName(image_filter_ ? "polar_image" : "scan");
 }
 
 void ScanSource::subscribe(bool on) {
@@ -67,9 +85,11 @@ void ScanSource::subscribe(bool on) {
   subscribed_ = on;
   if (on && cloud_filter_) cloud_sub_.subscribe(nh_, "scan", queue);
   if (on && image_filter_) image_sub_.subscribe(nh_, "polar_image", queue);
+  if (on && laser_filter_) laser_sub_.subscribe(nh_, "scan", queue);
   if (!on) {
     cloud_sub_.unsubscribe();
     image_sub_.unsubscribe();
+    laser_sub_.unsubscribe();
     stats_->inputStopped();
   }
 }

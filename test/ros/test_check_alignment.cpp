@@ -97,6 +97,29 @@ TEST(CheckAlignmentRequest, PointCloudsToAPolarImageNodeletAreRefused) {
   EXPECT_NE(res.result.status, AlignmentQuality::REFUSED) << res.error;
 }
 
+// A laser-scan nodelet answers requests of point clouds (the service has no LaserScan fields)
+// and refuses polar images like a point-cloud nodelet.
+TEST(CheckAlignmentRequest, ALaserScanNodeletJudgesPointClouds) {
+  ros_adapters::NodeConfig laser;
+  laser.input_type = InputType::kLaserScan;
+  laser.online.coral.dimension = 2;
+  CheckAlignment::Request req;
+  req.cloud_a = gridCloud(10.0);
+  req.cloud_b = gridCloud(11.0);
+  req.transform_a_b.rotation.w = 1.0;
+  CheckAlignment::Response res;
+  EXPECT_TRUE(ros_adapters::answerCheckAlignment(req, laser, &res)) << res.error;
+  EXPECT_NE(res.result.status, AlignmentQuality::REFUSED) << res.error;
+  CheckAlignment::Request images;
+  images.image_a = ringImage(10.0);
+  images.image_b = ringImage(11.0);
+  images.transform_a_b.rotation.w = 1.0;
+  expectRefused(images, laser,
+                "this nodelet is configured for laser scans (input_type laser_scan); the "
+                "request holds polar images (image_a, image_b): send them to a nodelet with "
+                "input_type polar_image");
+}
+
 TEST(CheckAlignmentRequest, NoScanOneScanOrMixedKindsAreRefused) {
   CheckAlignment::Request none, one, one_image, mixed, all_four;
   none.cloud_a.header.frame_id = "lidar";  // a header alone is not a scan

@@ -160,6 +160,16 @@ TEST_F(Diagnostics, InputTopicOfAnotherTypeIsAnErrorUntilGone) {
   EXPECT_EQ(inputTopicTypeError("/scan", "sensor_msgs/PointCloud2", InputType::kPointCloud), "");
   EXPECT_EQ(inputTopicTypeError("/polar_image", "sensor_msgs/Image", InputType::kPolarImage), "");
   EXPECT_EQ(inputTopicTypeError("/scan", "", InputType::kPointCloud), "");  // no publisher
+  // LaserScan and PointCloud2 on `scan`: each nodelet names the input_type that reads the other.
+  EXPECT_NE(inputTopicTypeError("/scan", "sensor_msgs/LaserScan", InputType::kPointCloud)
+                .find("(set input_type laser_scan (and config/lidar_2d.yaml) for LaserScan)"),
+            std::string::npos);
+  EXPECT_NE(inputTopicTypeError("/scan", "sensor_msgs/PointCloud2", InputType::kLaserScan)
+                .find("configured for laser scans (input_type laser_scan) and reads "
+                      "sensor_msgs/LaserScan there: roscpp drops the connection, no scan arrives "
+                      "(set input_type pointcloud for PointCloud2)"),
+            std::string::npos);
+  EXPECT_EQ(inputTopicTypeError("/scan", "sensor_msgs/LaserScan", InputType::kLaserScan), "");
 
   Stats s;
   s.inputTopicProblem(polar_on_scan);

@@ -89,6 +89,25 @@ TEST(Params, PolarInputRequires2dCoral) {
   EXPECT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
 }
 
+// A LaserScan is planar: input_type laser_scan needs coral/dimension 2 (as a 2D preset sets),
+// and has no radial-velocity field for the Doppler check.
+TEST(Params, LaserScanInputRequires2dCoralAndNoDoppler) {
+  XmlRpcValue t;
+  t["input_type"] = "laser_scan";
+  ros_adapters::NodeConfig c;
+  std::string err;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("coral/dimension must be 2 for input_type laser_scan"), std::string::npos)
+      << err;
+  t["coral"]["dimension"] = 2;
+  c = ros_adapters::NodeConfig();
+  ASSERT_TRUE(ros_adapters::loadNodeConfig(t, &c, &err)) << err;
+  EXPECT_EQ(c.input_type, ros_adapters::InputType::kLaserScan);
+  t["doppler"]["enabled"] = true;
+  EXPECT_FALSE(ros_adapters::loadNodeConfig(t, &c, &err));
+  EXPECT_NE(err.find("a LaserScan has not"), std::string::npos) << err;
+}
+
 TEST(Params, DopplerNoiseAndSeedValidated) {
   XmlRpcValue t;
   t["doppler"]["enabled"] = true;

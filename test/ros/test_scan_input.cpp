@@ -1,10 +1,12 @@
 // Input conversion of the nodelet (no ROS master): polar images through the radar front
-// end, bad images, empty input, Doppler field.
+// end, bad images, empty input, Doppler field, laser scans.
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "coral_introspection/ros/coral_scan_input.hpp"
 
@@ -172,4 +174,85 @@ TEST(NoPoseInput, CarriesTheTfErrorAndNoPose) {
   EXPECT_EQ(s.id, h.stamp.toNSec());
   EXPECT_NE(s.pose_error.find("odom <- 'lidar'"), std::string::npos) << s.pose_error;
   EXPECT_NE(s.pose_error.find("extrapolation"), std::string::npos) << s.pose_error;
+}
+
+namespace {
+// A scan of `n` beams from angle_min in steps of `inc` [rad], every reading `r` [m].
+sensor_msgs::LaserScan laserScan(int n, double angle_min, double inc, float r) {
+  sensor_msgs::LaserScan s;
+  s.header.stamp = ros::Time(50.0);
+  s.header.frame_id = "laser";
+  s.angle_min = static_cast<float>(angle_min);
+  s.angle_increment = static_cast<float>(inc);
+  s.angle_max = static_cast<float>(angle_min + (n - 1) * inc);
+  s.range_min = 0.1f;
+  s.range_max = 30.0f;
+  s.ranges.assign(static_cast<std::size_t>(n), r);
+  return s;
+}
+
+ros_adapters::NodeConfig laserConfig() {
+  ros_adapters::NodeConfig c;
+  c.input_type = ros_adapters::InputType::kLaserScan;
+  c.online.coral.dimension = 2;
+  return c;
+}
+}  // namespace
+
+// Beam i at angle_min + i angle_increment (either sign), z = 0; the readings that are no return
+// (REP 117: +-Inf, below range_min, at or past range_max: a driver's "no return" at range_max
+// kept as a point is a wall that is not there) are left out, NaN counted.
+TEST(LaserScanToSensorScan, BeamsBecomePlanarPointsAndNoReturnsAreLeftOut) {
+  const double deg = M_PI / 180.0;
+  sensor_msgs::LaserScan s = laserScan(181, -90.0 * deg, 1.0 * deg, 2.0f);
+  s.ranges[10] = std::numeric_limits<float>::infinity();
+  s.ranges[11] = -std::numeric_limits<float>::infinity();
+  s.ranges[12] = std::numeric_limits<float>::quiet_NaN();
+  s.ranges[13] = 0.05f;  // below range_min
+  s.ranges[14] = 30.0f;  // at range_max: no return
+  s.ranges[15] = 45.0f;  // past it
+  ros_adapters::SensorScan out;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err)) << err;
+  const coral::Points& p = out.scan.features.points;
+  ASSERT_EQ(p.size(), 181u - 6u);
+  EXPECT_EQ(out.dropped_non_finite, 1u);
+  EXPECT_FALSE(out.scan.is_radar);
+  EXPECT_DOUBLE_EQ(out.scan.stamp, 50.0);
+  EXPECT_NEAR(p.front().x(), 0.0, 1e-6);  // beam 0 at -90 deg
+  EXPECT_NEAR(p.front().y(), -2.0, 1e-6);
+  EXPECT_NEAR(p[90 - 6].x(), 2.0, 1e-5);  // beam 90 (six readings before it dropped)
+  EXPECT_NEAR(p.back().y(), 2.0, 1e-5);   // beam 180 at +90 deg
+  for (const coral::Vec3& q : p) {
+    EXPECT_NEAR(q.head<2>().norm(), 2.0, 1e-5);
+    EXPECT_EQ(q.z(), 0.0);
+  }
+  // A clockwise scanner (negative increment): beam 0 at +90 deg, the last at -90 deg.
+  const sensor_msgs::LaserScan cw = laserScan(181, 90.0 * deg, -1.0 * deg, 2.0f);
+  ASSERT_TRUE(ros_adapters::toSensorScan(cw, laserConfig(), &out, &err)) << err;
+  EXPECT_NEAR(out.scan.features.points.front().y(), 2.0, 1e-5);
+  EXPECT_NEAR(out.scan.features.points.back().y(), -2.0, 1e-5);
+}
+
+TEST(LaserScanToSensorScan, ScansThatCannotBeReadAreRefusedWithTheReason) {
+  const double deg = M_PI / 180.0;
+  ros_adapters::SensorScan out;
+  std::string err;
+  sensor_msgs::LaserScan s = laserScan(181, -90.0 * deg, 0.0, 2.0f);
+  EXPECT_FALSE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err));
+  EXPECT_NE(err.find("angle_increment non-zero"), std::string::npos) << err;
+  s = laserScan(181, -90.0 * deg, std::nan(""), 2.0f);
+  EXPECT_FALSE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err));
+  s = laserScan(721, 0.0, 1.0 * deg, 2.0f);  // 720 deg
+  EXPECT_FALSE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err));
+  EXPECT_NE(err.find("more than a full turn"), std::string::npos) << err;
+  s = laserScan(181, -90.0 * deg, 1.0 * deg, 2.0f);
+  s.range_max = s.range_min;
+  EXPECT_FALSE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err));
+  EXPECT_NE(err.find("range_min < range_max"), std::string::npos) << err;
+  s = laserScan(181, -90.0 * deg, 1.0 * deg, std::numeric_limits<float>::infinity());
+  EXPECT_FALSE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err));  // nothing returned
+  EXPECT_NE(err.find("has none in [range_min, range_max)"), std::string::npos) << err;
+  s.ranges.clear();
+  EXPECT_FALSE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err));
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -49,6 +50,31 @@ inline sensor_msgs::PointCloud2 lidarCloud(const Eigen::Isometry3d& T_world_sens
   h.stamp = stamp;
   h.frame_id = frame;
   return ros_adapters::pointsToCloud(pts, h);
+}
+
+// A planar laser scan of the yard from T_world_sensor: 361 beams of 0.5 deg from -90 deg (a
+// SICK LMS in its 0.5 deg mode), 1 cm of range noise; no return written as range_max (30 m), as
+// many drivers do.
+inline sensor_msgs::LaserScan laserScan(const Eigen::Isometry3d& T_world_sensor,
+                                        const ros::Time& stamp, const std::string& frame,
+                                        std::mt19937& rng) {
+  const auto scene = eval::SyntheticScene::structuredYard();
+  std::normal_distribution<double> noise(0.0, 0.01);
+  sensor_msgs::LaserScan s;
+  s.header.stamp = stamp;
+  s.header.frame_id = frame;
+  s.angle_min = static_cast<float>(-M_PI / 2.0);
+  s.angle_increment = static_cast<float>(M_PI / 360.0);
+  s.angle_max = static_cast<float>(M_PI / 2.0);
+  s.range_min = 0.1f;
+  s.range_max = 30.0f;
+  for (int i = 0; i < 361; ++i) {
+    const double a = -M_PI / 2.0 + i * M_PI / 360.0;
+    const coral::Vec3 d = T_world_sensor.linear() * coral::Vec3(std::cos(a), std::sin(a), 0.0);
+    const auto range = scene.castRay(T_world_sensor.translation(), d, 29.0);
+    s.ranges.push_back(range ? static_cast<float>(*range + noise(rng)) : s.range_max);
+  }
+  return s;
 }
 
 // Plain mono8 polar image (rows = ccw azimuths from +x, bin i = range i * res), row i seen

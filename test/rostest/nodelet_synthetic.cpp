@@ -119,6 +119,36 @@ TEST_F(Synthetic, LidarCorrectTfAlignedAndTfErrorFlagged) {
   EXPECT_GT(q_wall, 5.0 * q_floor);
 }
 
+// sensor_msgs/LaserScan straight into the nodelet (input_type laser_scan, lidar_2d): 0.5 deg
+// beams, no returns written at range_max; correct TF aligned, the TF error flagged.
+TEST_F(Synthetic, LaserScanCorrectTfAlignedAndTfErrorFlagged) {
+  Collector<AlignmentQuality> verdicts(nh, "/laser/alignment");
+  ros::Publisher pub = nh.advertise<sensor_msgs::LaserScan>("/laser/scan", 10);
+  ASSERT_TRUE(waitForSubscriber(pub)) << "nodelet did not subscribe to /laser/scan";
+  auto make = [&](double t, const ros::Time& stamp) {
+    return laserScan(trajectory(t), stamp, "laser", rng);
+  };
+  std::vector<ros::Time> stamps;
+  const int n = 7, bad = 3;
+  auto ok = runSequence(pub, verdicts, "laser", n, -1, make, &stamps);
+  ASSERT_EQ(ok.size(), static_cast<std::size_t>(n - 1));
+  for (const auto& [i, m] : ok) {
+    EXPECT_TRUE(m.valid) << "pair ending at scan " << i << ": " << m.reason;
+    EXPECT_TRUE(m.aligned) << "pair ending at scan " << i << " Q = " << m.quality
+                           << " p = " << m.probability << " " << m.reason;
+    EXPECT_GT(m.num_points_a, 50u);
+    EXPECT_LE(m.num_points_a, 181u);  // thinned to 1 deg: at most 181 of the 361 beams
+  }
+  auto err = runSequence(pub, verdicts, "laser", n, bad, make, &stamps);
+  ASSERT_EQ(err.size(), static_cast<std::size_t>(n - 1));
+  for (const auto& [i, m] : err) {
+    const bool straddles = i == bad || i == bad + 1;
+    EXPECT_TRUE(m.valid) << "pair ending at scan " << i;
+    EXPECT_EQ(m.aligned, !straddles) << "pair ending at scan " << i << " Q = " << m.quality
+                                     << " p = " << m.probability << " " << m.reason;
+  }
+}
+
 TEST_F(Synthetic, PolarImageCorrectTfAlignedAndTfErrorFlagged) {
   Collector<AlignmentQuality> verdicts(nh, "/radar/alignment");
   Collector<sensor_msgs::PointCloud2> features(nh, "/radar/features");

@@ -19,7 +19,8 @@
 namespace coral_introspection {
 namespace ros_adapters {
 
-enum class InputType { kPointCloud, kPolarImage };
+// kLaserScan: sensor_msgs/LaserScan on `scan`, converted to planar points (coral/dimension 2).
+enum class InputType { kPointCloud, kPolarImage, kLaserScan };
 enum class PolarFormat { kOxford, kPlain };
 
 struct NodeConfig {
@@ -39,8 +40,9 @@ struct NodeConfig {
   // buffers freed after a pile-up from staying resident (doc/testing.md, soak run 3).
   double heap_release_interval = 10.0;
   // pairing/, coral/, classifier/, motion_compensation/, doppler/: the Introspector's config.
-  // Polar input requires coral/dimension 2 (RIP features are planar: 3D covariances of
-  // z = 0 points are singular), checked by validate() rather than switched silently.
+  // Polar and laser-scan input require coral/dimension 2 (RIP features and laser scans are
+  // planar: 3D covariances of z = 0 points are singular), checked by validate() rather than
+  // switched silently.
   online::IntrospectorConfig online;
   PolarFormat polar_format = PolarFormat::kOxford;
   radar::PolarImageConfig polar;  // used by polar_format plain (oxford: fixed layout)

@@ -1,8 +1,9 @@
-// The input side of CoralNodelet: subscribes `scan` (PointCloud2) or `polar_image` (mono8
-// Image), refuses what cannot be judged (stamp 0, malformed messages), waits for the sensor
-// pose at the stamp through a tf2 MessageFilter (TF from its own TfFeed), converts each
-// message (scan_input.hpp) and hands one ScanEvent per input message on: a posed scan, or a
-// notice saying why it cannot be judged. Callbacks never throw. Policies (doc/online_behaviour.md):
+// The input side of CoralNodelet: subscribes `scan` (PointCloud2, or LaserScan with input_type
+// laser_scan) or `polar_image` (mono8 Image), refuses what cannot be judged (stamp 0, malformed
+// messages), waits for the sensor pose at the stamp through a tf2 MessageFilter (TF from its own
+// TfFeed), converts each message (scan_input.hpp) and hands one ScanEvent per input message on: a
+// posed scan, or a notice saying why it cannot be judged. Callbacks never throw. Policies
+// (doc/online_behaviour.md):
 //  - a scan whose TF is not there within tf_timeout [s of wall time] is a TF failure; if its
 //    TF arrives later, the scan is counted as late and NOT judged (its no-verdict notice was
 //    already sent, and newer scans may have been judged since);
@@ -92,8 +93,10 @@ class ScanSource {
   std::atomic<bool> subscribed_{false};                  // set by subscribe(), read by the timer
   message_filters::Subscriber<sensor_msgs::PointCloud2> cloud_sub_;
   message_filters::Subscriber<sensor_msgs::Image> image_sub_;
+  message_filters::Subscriber<sensor_msgs::LaserScan> laser_sub_;
   std::shared_ptr<tf2_ros::MessageFilter<sensor_msgs::PointCloud2>> cloud_filter_;
   std::shared_ptr<tf2_ros::MessageFilter<sensor_msgs::Image>> image_filter_;
+  std::shared_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> laser_filter_;
 };
 
 }  // namespace ros_adapters
