@@ -68,6 +68,7 @@
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
+#include "coral_introspection/ros_eval/stream_decision.hpp"
 
 using namespace coral_introspection;
 
@@ -308,11 +309,7 @@ int main(int argc, char** argv) {
         f.corrected.rotation_deg, set.ate_reference_corrected);
   }
   if (calibrate_odometry) {
-    auto stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d*) {
-      const online::PairJudgement j =
-          online::judgePair(set.scans[c.a].scan, set.scans[c.b].scan, c.T_a_b, node.online, false);
-      return j.verdict.valid && j.verdict.aligned;
-    };
+    const eval::LoopDecision stream = ros_eval::streamVerdictDecision(set.scans, node.online);
     eval::OdometryYawModel m;
     if (!eval::calibratedOdometry(set.scans, set.odom, cand_cfg, stream, &set.odom, &m, &err))
       return fail(err);

@@ -64,6 +64,7 @@
 #include "coral_introspection/eval/tool_args.hpp"
 #include "coral_introspection/online/introspector.hpp"
 #include "coral_introspection/ros_eval/preset_file.hpp"
+#include "coral_introspection/ros_eval/stream_decision.hpp"
 
 using namespace coral_introspection;
 
@@ -230,11 +231,7 @@ int main(int argc, char** argv) {
   // the accepted ones calibrate the odometry's yaw (calibrated).
   int steps_matched = 0;
   eval::OdometryYawModel yaw_model;
-  auto stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d*) {
-    const online::PairJudgement j =
-        online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, node.online, false);
-    return j.verdict.valid && j.verdict.aligned;
-  };
+  const eval::LoopDecision stream = ros_eval::streamVerdictDecision(scans, node.online);
   if (front_end == "scan_matching")
     odom = eval::scanMatchedOdometry(scans, odom, cand, stream, &steps_matched);
   if (front_end == "calibrated" &&
