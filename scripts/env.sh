@@ -27,7 +27,21 @@ coral_link_source() {
   mkdir -p "$1/src"
   if [ "$(readlink "${link}" 2>/dev/null)" != "${CORAL_REPO}" ]; then
     ln -sfn "${CORAL_REPO}" "${link}"
-    if [ -f "$1/build/CMakeCache.txt" ]; then echo "--force-cmake"; fi
+    if [ -f "$1/build/CMakeCache.txt" ]; then
+      touch "$1/build/coral_messages_configured.stamp"
+      echo "--force-cmake"
+    fi
+  # A message or service changed since the last configure (a pull that adds a field): genmsg's
+  # dependency check stops make with "Please rerun cmake" instead of regenerating. The stamp
+  # marks the configure that saw them (CMakeCache.txt keeps its time when nothing in it changes).
+  elif [ -f "$1/build/CMakeCache.txt" ]; then
+    local stamp="$1/build/coral_messages_configured.stamp"
+    [ -f "${stamp}" ] || touch -r "$1/build/CMakeCache.txt" "${stamp}"
+    if [ -n "$(find "${CORAL_REPO}/msg" "${CORAL_REPO}/srv" -newer "${stamp}" -print -quit \
+      2>/dev/null)" ]; then
+      touch "${stamp}"
+      echo "--force-cmake"
+    fi
   fi
   return 0
 }

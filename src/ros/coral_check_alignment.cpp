@@ -4,6 +4,8 @@
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/coral_scan_input.hpp"
 
+#include <vector>
+
 namespace coral_introspection {
 namespace ros_adapters {
 
@@ -17,48 +19,118 @@ bool given(const sensor_msgs::PointCloud2& c) {
 bool given(const sensor_msgs::Image& i) {
   return !i.encoding.empty() || i.width > 0 || i.height > 0 || !i.data.empty();
 }
+bool given(const sensor_msgs::LaserScan& s) {
+  return !s.ranges.empty() || !s.intensities.empty() || s.angle_increment != 0.0f ||
+         s.angle_min != 0.0f || s.angle_max != 0.0f || s.range_max != 0.0f;
+}
+
+// The three kinds of scan pair a request can hold, in the order of the request's fields.
+enum class Kind { kClouds, kImages, kLaserScans };
+struct KindInfo {
+  Kind kind;
+  const char* a;  // field names
+  const char* b;
+  const char* plural;  // "point clouds"
+  const char* input;   // the input_type of the nodelet that judges them
+};
+constexpr KindInfo kKinds[] = {
+    {Kind::kClouds, "cloud_a", "cloud_b", "point clouds", "pointcloud"},
+    {Kind::kImages, "image_a", "image_b", "polar images", "polar_image"},
+    {Kind::kLaserScans, "scan_a", "scan_b", "laser scans", "laser_scan"},
+};
+
+std::pair<bool, bool> givenPair(const CheckAlignment::Request& req, Kind k) {
+  switch (k) {
+    case Kind::kClouds:
+      return {given(req.cloud_a), given(req.cloud_b)};
+    case Kind::kImages:
+      return {given(req.image_a), given(req.image_b)};
+    case Kind::kLaserScans:
+      break;
+  }
+  return {given(req.scan_a), given(req.scan_b)};
+}
+
+// What a nodelet of this input type judges: its own kind, and a laser-scan nodelet also planar
+// point clouds (a client holding clouds, or requests written before the scan fields).
+bool judges(InputType type, Kind k) {
+  switch (type) {
+    case InputType::kPointCloud:
+      return k == Kind::kClouds;
+    case InputType::kPolarImage:
+      return k == Kind::kImages;
+    case InputType::kLaserScan:
+      break;
+  }
+  return k == Kind::kLaserScans || k == Kind::kClouds;
+}
+
+// "scan_a and scan_b (or cloud_a and cloud_b)": the fields a nodelet of this type wants.
+std::string wantedFields(InputType type) {
+  std::string out;
+  for (const auto& k : kKinds)
+    if (judges(type, k.kind) && k.kind != Kind::kClouds) out = std::string(k.a) + " and " + k.b;
+  if (judges(type, Kind::kClouds))
+    out = out.empty() ? "cloud_a and cloud_b" : out + " (or cloud_a and cloud_b)";
+  return out;
+}
+
+// The kind the request holds (requestKindError empty), or clouds for a request with none.
+Kind heldKind(const CheckAlignment::Request& req) {
+  for (const auto& k : kKinds) {
+    const auto [a, b] = givenPair(req, k.kind);
+    if (a || b) return k.kind;
+  }
+  return Kind::kClouds;
+}
 
 }  // namespace
 
 std::string requestKindError(const CheckAlignment::Request& req, InputType type) {
-  const bool ca = given(req.cloud_a), cb = given(req.cloud_b);
-  const bool ia = given(req.image_a), ib = given(req.image_b);
-  std::string held;  // the given fields, e.g. "cloud_a, image_b"
-  for (const auto& [set, name] : {std::pair<bool, const char*>{ca, "cloud_a"},
-                                  {cb, "cloud_b"},
-                                  {ia, "image_a"},
-                                  {ib, "image_b"}})
-    if (set) held += std::string(held.empty() ? "" : ", ") + name;
-  // A laser-scan nodelet judges requests of planar point clouds (the service has no LaserScan
-  // fields; a client converts them as it sends them).
-  const bool clouds_wanted = type != InputType::kPolarImage;
-  const std::string wanted = clouds_wanted ? "cloud_a and cloud_b" : "image_a and image_b";
+  std::string held;                     // the given fields, e.g. "cloud_a, image_b"
+  std::vector<const char*> held_kinds;  // their kinds, e.g. "point clouds"
+  const KindInfo* only = nullptr;       // the kind held, when it is one
+  for (const auto& k : kKinds) {
+    const auto [a, b] = givenPair(req, k.kind);
+    for (const auto& [set, name] : {std::pair<bool, const char*>{a, k.a}, {b, k.b}})
+      if (set) held += std::string(held.empty() ? "" : ", ") + name;
+    if (!a && !b) continue;
+    held_kinds.push_back(k.plural);
+    only = &k;
+  }
+  const std::string wanted = wantedFields(type);
   const std::string self = "this nodelet is configured for " + inputKindName(type);
-  if (held.empty())
-    return "the request holds no scan (cloud_a, cloud_b, image_a and image_b are all empty); " +
+  if (held_kinds.empty())
+    return "the request holds no scan (cloud_a, cloud_b, image_a, image_b, scan_a and scan_b "
+           "are all empty); " +
            self + ": fill " + wanted;
-  // Clouds and images in one request: which pair was meant cannot be told (the image
-  // fields of a cloud request are not leftovers to be ignored).
-  if ((ca || cb) && (ia || ib))
-    return "the request mixes point clouds and polar images (" + held + "); " + self + ": fill " +
-           wanted + " only";
-  const std::string kind = clouds_wanted ? "point clouds" : "polar images";
-  if ((ca || cb) != clouds_wanted)
-    return self + "; the request holds " + (clouds_wanted ? "polar images" : "point clouds") +
-           " (" + held + "): send them to a nodelet with input_type " +
-           (clouds_wanted ? "polar_image" : "pointcloud");
-  if (clouds_wanted ? !(ca && cb) : !(ia && ib))
-    return std::string(clouds_wanted ? (ca ? "cloud_b" : "cloud_a")
-                                     : (ia ? "image_b" : "image_a")) +
-           " is empty: the request needs two " + kind + " (" + wanted + ")";
+  // Two kinds in one request: which pair was meant cannot be told (the other fields of a
+  // cloud request are not leftovers to be ignored).
+  if (held_kinds.size() > 1) {
+    std::string mixed = held_kinds[0];  // "point clouds, polar images and laser scans"
+    for (std::size_t i = 1; i < held_kinds.size(); ++i)
+      mixed += std::string(i + 1 < held_kinds.size() ? ", " : " and ") + held_kinds[i];
+    return "the request mixes " + mixed + " (" + held + "); " + self + ": fill " + wanted + " only";
+  }
+  if (!judges(type, only->kind))
+    return self + "; the request holds " + only->plural + " (" + held +
+           "): send them to a nodelet with input_type " + only->input;
+  const auto [a, b] = givenPair(req, only->kind);
+  if (!(a && b))
+    return std::string(a ? only->b : only->a) + " is empty: the request needs two " + only->plural +
+           " (" + only->a + " and " + only->b + ")";
   return "";
 }
 
 bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& cfg,
                           CheckAlignment::Response* res) {
-  const bool clouds = given(req.cloud_a) || given(req.cloud_b);
-  const std_msgs::Header& ha = clouds ? req.cloud_a.header : req.image_a.header;
-  const ros::Time stamp_b = clouds ? req.cloud_b.header.stamp : req.image_b.header.stamp;
+  const Kind kind = heldKind(req);
+  const std_msgs::Header& ha = kind == Kind::kClouds   ? req.cloud_a.header
+                               : kind == Kind::kImages ? req.image_a.header
+                                                       : req.scan_a.header;
+  const ros::Time stamp_b = kind == Kind::kClouds   ? req.cloud_b.header.stamp
+                            : kind == Kind::kImages ? req.image_b.header.stamp
+                                                    : req.scan_b.header.stamp;
   SensorScan sa, sb;
   std::string error = requestKindError(req, cfg.input_type);
   auto convert = [&](const auto& msg, const char* name, SensorScan* s) {
@@ -66,12 +138,19 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
     error = std::string(name) + ": " + error;
     return false;
   };
+  auto convertBoth = [&] {
+    switch (kind) {
+      case Kind::kClouds:
+        return convert(req.cloud_a, "cloud_a", &sa) && convert(req.cloud_b, "cloud_b", &sb);
+      case Kind::kImages:
+        return convert(req.image_a, "image_a", &sa) && convert(req.image_b, "image_b", &sb);
+      case Kind::kLaserScans:
+        break;
+    }
+    return convert(req.scan_a, "scan_a", &sa) && convert(req.scan_b, "scan_b", &sb);
+  };
   Eigen::Isometry3d T_a_b;
-  const bool ok =
-      error.empty() &&
-      (clouds ? convert(req.cloud_a, "cloud_a", &sa) && convert(req.cloud_b, "cloud_b", &sb)
-              : convert(req.image_a, "image_a", &sa) && convert(req.image_b, "image_b", &sb)) &&
-      toEigen(req.transform_a_b, &T_a_b, &error);
+  const bool ok = error.empty() && convertBoth() && toEigen(req.transform_a_b, &T_a_b, &error);
   if (!ok) {
     res->result = toMessage(coral::AlignmentVerdict(), cfg.online.verdict, ha, ha.stamp, stamp_b);
     res->error = "request refused: " + error;

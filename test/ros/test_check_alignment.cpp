@@ -10,6 +10,9 @@
 
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/coral_check_alignment.hpp"
+#include "coral_introspection/ros/coral_scan_input.hpp"
+#include "rostest/coral_rostest_utils.hpp"
+#include "support/preset.hpp"
 
 using namespace coral_introspection;
 using ros_adapters::InputType;
@@ -97,8 +100,8 @@ TEST(CheckAlignmentRequest, PointCloudsToAPolarImageNodeletAreRefused) {
   EXPECT_NE(res.result.status, AlignmentQuality::REFUSED) << res.error;
 }
 
-// A laser-scan nodelet answers requests of point clouds (the service has no LaserScan fields)
-// and refuses polar images like a point-cloud nodelet.
+// A laser-scan nodelet also answers requests of (planar) point clouds, and refuses polar
+// images like a point-cloud nodelet.
 TEST(CheckAlignmentRequest, ALaserScanNodeletJudgesPointClouds) {
   ros_adapters::NodeConfig laser;
   laser.input_type = InputType::kLaserScan;
@@ -134,9 +137,9 @@ TEST(CheckAlignmentRequest, NoScanOneScanOrMixedKindsAreRefused) {
     const char* why;
   } cases[] = {
       {none, lidar,
-       "the request holds no scan (cloud_a, cloud_b, image_a and image_b are all empty); this "
-       "nodelet is configured for point clouds (input_type pointcloud): fill cloud_a and "
-       "cloud_b"},
+       "the request holds no scan (cloud_a, cloud_b, image_a, image_b, scan_a and scan_b are "
+       "all empty); this nodelet is configured for point clouds (input_type pointcloud): fill "
+       "cloud_a and cloud_b"},
       {one, lidar, "cloud_b is empty: the request needs two point clouds (cloud_a and cloud_b)"},
       {one_image, radar,
        "image_a is empty: the request needs two polar images (image_a and image_b)"},
@@ -153,4 +156,130 @@ TEST(CheckAlignmentRequest, NoScanOneScanOrMixedKindsAreRefused) {
     SCOPED_TRACE(c.why);
     expectRefused(c.request, c.config, c.why);
   }
+}
+
+namespace {
+
+ros_adapters::NodeConfig laserScanPreset() {
+  ros_adapters::NodeConfig c;
+  coral_test::loadPreset("lidar_2d", &c);
+  c.input_type = InputType::kLaserScan;
+  return c;
+}
+
+// Two 0.5 deg laser scans of the synthetic yard 2.25 m apart (no returns written at range_max),
+// and T_a_b mapping b's points into a's frame.
+struct ScanPair {
+  sensor_msgs::LaserScan a, b;
+  Eigen::Isometry3d T_a_b;
+};
+ScanPair yardScans() {
+  std::mt19937 rng(3);
+  const Eigen::Isometry3d Ta = coral_test::trajectory(0.5), Tb = coral_test::trajectory(1.25);
+  return {coral_test::laserScan(Ta, ros::Time(10.0), "laser", rng),
+          coral_test::laserScan(Tb, ros::Time(11.0), "laser", rng), Ta.inverse() * Tb};
+}
+
+}  // namespace
+
+// sensor_msgs/LaserScan in the request (scan_a, scan_b), as a 2D back end holds its scans: a
+// laser-scan nodelet judges them as the planar clouds of their readings, the conversion of its
+// stream (same Q, p and verdict as the clouds request), as a stream pair and as a loop-closure
+// candidate; a transform 0.5 m off is flagged either way.
+TEST(CheckAlignmentRequest, ALaserScanNodeletJudgesLaserScansAsTheirReadings) {
+  const ros_adapters::NodeConfig laser = laserScanPreset();
+  const ScanPair p = yardScans();
+  CheckAlignment::Request scans, clouds;
+  scans.scan_a = p.a;
+  scans.scan_b = p.b;
+  for (const auto& [scan, cloud] : {std::pair{&p.a, &clouds.cloud_a}, {&p.b, &clouds.cloud_b}}) {
+    ros_adapters::SensorScan s;
+    std::string err;
+    ASSERT_TRUE(ros_adapters::toSensorScan(*scan, laser, &s, &err)) << err;
+    *cloud = ros_adapters::pointsToCloud(s.scan.features.points, scan->header);
+  }
+  for (const bool loop : {false, true}) {
+    for (const double off : {0.0, 0.5}) {
+      SCOPED_TRACE(std::string(loop ? "loop closure" : "stream pair") + ", off " +
+                   std::to_string(off));
+      const Eigen::Isometry3d T = p.T_a_b * Eigen::Translation3d(0.0, off, 0.0);
+      CheckAlignment::Response from_scans, from_clouds;
+      for (auto* req : {&scans, &clouds}) {
+        req->transform_a_b = ros_adapters::toTransformMsg(T);
+        req->loop_closure = loop;
+      }
+      ASSERT_TRUE(ros_adapters::answerCheckAlignment(scans, laser, &from_scans))
+          << from_scans.error;
+      ASSERT_TRUE(ros_adapters::answerCheckAlignment(clouds, laser, &from_clouds))
+          << from_clouds.error;
+      const AlignmentQuality& r = from_scans.result;
+      EXPECT_EQ(r.status, AlignmentQuality::VERDICT) << from_scans.error;
+      EXPECT_TRUE(r.valid);
+      EXPECT_EQ(r.aligned, off == 0.0)
+          << "Q = " << r.quality << " p = " << r.probability << ": " << r.reason;
+      EXPECT_EQ(r.rejected_by.empty(), off == 0.0) << r.rejected_by;
+      EXPECT_EQ(r.loop_closure, loop);
+      EXPECT_EQ(r.header.frame_id, "laser");
+      EXPECT_EQ(r.stamp_b, ros::Time(11.0));
+      // 361 beams of 0.5 deg thinned to the preset's 1 deg: at most 181 points a scan.
+      EXPECT_GT(r.num_points_a, 100u);
+      EXPECT_LE(r.num_points_a, 181u);
+      EXPECT_EQ(r.aligned, from_clouds.result.aligned);
+      EXPECT_EQ(r.num_points_a, from_clouds.result.num_points_a);
+      EXPECT_EQ(r.num_points_b, from_clouds.result.num_points_b);
+      EXPECT_NEAR(r.quality, from_clouds.result.quality, 1e-6);
+      EXPECT_NEAR(r.probability, from_clouds.result.probability, 1e-6);
+    }
+  }
+}
+
+TEST(CheckAlignmentRequest, LaserScansToOtherNodeletsOneScanOrMixedKindsAreRefused) {
+  const ScanPair p = yardScans();
+  const ros_adapters::NodeConfig laser = laserScanPreset(), lidar, radar = radarConfig();
+  CheckAlignment::Request scans, one, mixed, all, none, unreadable;
+  scans.scan_a = one.scan_a = mixed.scan_a = all.scan_a = unreadable.scan_a = p.a;
+  scans.scan_b = unreadable.scan_b = p.b;
+  mixed.cloud_b = all.cloud_b = gridCloud(11.0);
+  all.image_a = ringImage(10.0);
+  unreadable.scan_b.angle_increment = 0.0f;  // beams without a direction
+  for (auto* r : {&scans, &one, &mixed, &all, &none, &unreadable})
+    r->transform_a_b = ros_adapters::toTransformMsg(p.T_a_b);
+  const struct {
+    const CheckAlignment::Request& request;
+    const ros_adapters::NodeConfig& config;
+    const char* why;
+  } cases[] = {
+      {scans, lidar,
+       "this nodelet is configured for point clouds (input_type pointcloud); the request holds "
+       "laser scans (scan_a, scan_b): send them to a nodelet with input_type laser_scan"},
+      {scans, radar,
+       "this nodelet is configured for polar radar images (input_type polar_image); the "
+       "request holds laser scans (scan_a, scan_b): send them to a nodelet with input_type "
+       "laser_scan"},
+      {none, laser,
+       "the request holds no scan (cloud_a, cloud_b, image_a, image_b, scan_a and scan_b are "
+       "all empty); this nodelet is configured for laser scans (input_type laser_scan): fill "
+       "scan_a and scan_b (or cloud_a and cloud_b)"},
+      {one, laser, "scan_b is empty: the request needs two laser scans (scan_a and scan_b)"},
+      {mixed, laser,
+       "the request mixes point clouds and laser scans (cloud_b, scan_a); this nodelet is "
+       "configured for laser scans (input_type laser_scan): fill scan_a and scan_b (or cloud_a "
+       "and cloud_b) only"},
+      {all, lidar,
+       "the request mixes point clouds, polar images and laser scans (cloud_b, image_a, "
+       "scan_a); this nodelet is configured for point clouds (input_type pointcloud): fill "
+       "cloud_a and cloud_b only"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.why);
+    expectRefused(c.request, c.config, c.why);
+  }
+  // A scan that cannot be read is refused with the field and the reason.
+  CheckAlignment::Response res;
+  EXPECT_FALSE(ros_adapters::answerCheckAlignment(unreadable, laser, &res));
+  EXPECT_EQ(res.result.status, AlignmentQuality::REFUSED);
+  EXPECT_EQ(res.error.rfind("request refused: scan_b: laser scan angle_min", 0), 0u) << res.error;
+  // The readable pair is judged by the same nodelet.
+  EXPECT_TRUE(ros_adapters::answerCheckAlignment(scans, laser, &res)) << res.error;
+  EXPECT_TRUE(res.result.aligned) << res.result.reason;
 }

@@ -87,6 +87,35 @@ TEST(CheckAlignment, PolarImagesCorrectVsOffsetTransform) {
   EXPECT_FALSE(srv.response.result.aligned) << "Q = " << srv.response.result.quality;
 }
 
+// sensor_msgs/LaserScan in the request (scan_a, scan_b) to a laser-scan nodelet (lidar_2d), as a
+// 2D back end asks about a loop candidate: the right transform accepted, one 0.5 m off rejected
+// with the reason; the same scans to the 3D lidar nodelet are refused.
+TEST(CheckAlignment, LaserScansCorrectVsOffsetTransform) {
+  std::mt19937 rng(11);
+  CheckAlignment srv;
+  srv.request.scan_a = laserScan(T_world_a, ros::Time(10.0), "laser", rng);
+  srv.request.scan_b = laserScan(T_world_b, ros::Time(11.0), "laser", rng);
+  srv.request.loop_closure = true;
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b);
+  ASSERT_TRUE(call("/laser/check_alignment", srv));
+  const auto good = srv.response.result;
+  EXPECT_TRUE(good.valid) << srv.response.error;
+  EXPECT_TRUE(good.aligned) << "Q = " << good.quality << " p = " << good.probability;
+  EXPECT_TRUE(good.loop_closure);
+  EXPECT_EQ(good.header.frame_id, "laser");
+  EXPECT_GT(good.num_points_a, 100u);
+  srv.request.transform_a_b = ros_adapters::toTransformMsg(T_a_b_wrong);
+  ASSERT_TRUE(call("/laser/check_alignment", srv));
+  EXPECT_TRUE(srv.response.result.valid) << srv.response.error;
+  EXPECT_FALSE(srv.response.result.aligned) << "Q = " << srv.response.result.quality;
+  EXPECT_FALSE(srv.response.result.rejected_by.empty());  // which term rejected it
+  ASSERT_TRUE(call("/lidar/check_alignment", srv));
+  EXPECT_EQ(srv.response.result.status, coral_introspection::AlignmentQuality::REFUSED);
+  EXPECT_NE(srv.response.error.find("send them to a nodelet with input_type laser_scan"),
+            std::string::npos)
+      << srv.response.error;
+}
+
 // Each nodelet judges only its own kind of scans: the other kind, no scan, one scan or
 // both kinds are refused with the reason (a call that succeeds, status REFUSED), and the
 // service keeps judging. Polar images sent to the 3D lidar nodelet were answered "aligned,

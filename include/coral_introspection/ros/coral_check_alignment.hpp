@@ -8,11 +8,11 @@
 namespace coral_introspection {
 namespace ros_adapters {
 
-// Empty when the request holds the two scans of the kind this nodelet judges (cloud_a and
-// cloud_b for input_type pointcloud, image_a and image_b for polar_image); otherwise why it
-// is refused: the other kind (planar radar features judged by a 3D lidar nodelet came out
-// "aligned, Q = 0" for any transform), both kinds, one scan only, or none. A
-// field counts as given when anything but its header is set.
+// Empty when the request holds the two scans of a kind this nodelet judges (cloud_a and
+// cloud_b for input_type pointcloud, image_a and image_b for polar_image, scan_a and scan_b or
+// planar cloud_a and cloud_b for laser_scan); otherwise why it is refused: the other kind (planar
+// radar features judged by a 3D lidar nodelet came out "aligned, Q = 0" for any transform), both
+// kinds, one scan only, or none. A field counts as given when anything but its header is set.
 std::string requestKindError(const CheckAlignment::Request& req, InputType type);
 
 // Fills res->result, and res->error with why there is no verdict (the wrong kind of scans
