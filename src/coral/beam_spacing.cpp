@@ -19,17 +19,15 @@ bool bearingDeg(const Vec3& p, const Vec3& origin, double* deg) {
 }
 }  // namespace
 
-double medianBeamStepDeg(const Points& pts, const Vec3& origin) {
-  std::vector<double> bearings;
-  bearings.reserve(pts.size());
-  double deg = 0.0;
-  for (const Vec3& p : pts)
-    if (bearingDeg(p, origin, &deg)) bearings.push_back(deg);
-  std::sort(bearings.begin(), bearings.end());
+namespace {
+// The median step [deg] between sorted bearings, NaN when not a regular scan (the rule of
+// medianBeamStepDeg). Sorts *bearings.
+double medianStepOf(std::vector<double>* bearings) {
+  std::sort(bearings->begin(), bearings->end());
   std::vector<double> steps;
-  for (std::size_t i = 1; i < bearings.size(); ++i)
-    if (bearings[i] - bearings[i - 1] > kMinBeamStepDeg)
-      steps.push_back(bearings[i] - bearings[i - 1]);
+  for (std::size_t i = 1; i < bearings->size(); ++i)
+    if ((*bearings)[i] - (*bearings)[i - 1] > kMinBeamStepDeg)
+      steps.push_back((*bearings)[i] - (*bearings)[i - 1]);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (steps.size() < 10) return nan;
   std::vector<double> sorted = steps;
@@ -46,28 +44,51 @@ double medianBeamStepDeg(const Points& pts, const Vec3& origin) {
   return regular >= steps.size() * 4 / 5 ? median : nan;
 }
 
+// Each point's bearing [deg] about origin, NaN for a point without one (bearingDeg false).
+std::vector<double> bearingsOf(const Points& pts, const Vec3& origin) {
+  std::vector<double> out(pts.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < pts.size(); ++i) bearingDeg(pts[i], origin, &out[i]);
+  return out;
+}
+}  // namespace
+
+double medianBeamStepDeg(const Points& pts, const Vec3& origin) {
+  std::vector<double> bearings;
+  bearings.reserve(pts.size());
+  double deg = 0.0;
+  for (const Vec3& p : pts)
+    if (bearingDeg(p, origin, &deg)) bearings.push_back(deg);
+  return medianStepOf(&bearings);
+}
+
 const Points& thinToBeamStep(const Points& in, const Vec3& origin, double reference_step_deg,
                              Points* storage, std::size_t* dropped) {
   if (!(reference_step_deg > 0.0)) return in;
-  const double step = medianBeamStepDeg(in, origin);
+  // One bearing per point (atan2 once), for the spacing, the phase and the selection.
+  const std::vector<double> bearing = bearingsOf(in, origin);
+  std::vector<double> valid;
+  valid.reserve(bearing.size());
+  for (const double b : bearing)
+    if (!std::isnan(b)) valid.push_back(b);
+  const double step = medianStepOf(&valid);
   if (!std::isfinite(step)) return in;
   const long k = std::lround(reference_step_deg / step);
   if (k < 2) return in;
   // The grid's phase: bearings lie at (n + phase) * step; the circular mean of their fractions
   // (a beam at exactly half a step must not flip between two indices by rounding noise).
-  double s = 0.0, c = 0.0, deg = 0.0;
-  for (const Vec3& p : in)
-    if (bearingDeg(p, origin, &deg)) {
-      const double f = 2.0 * M_PI * (deg / step);
-      s += std::sin(f);
-      c += std::cos(f);
-    }
+  double s = 0.0, c = 0.0;
+  for (const double deg : bearing) {  // in point order, as before the bearings were shared
+    if (std::isnan(deg)) continue;
+    const double f = 2.0 * M_PI * (deg / step);
+    s += std::sin(f);
+    c += std::cos(f);
+  }
   const double phase = std::atan2(s, c) / (2.0 * M_PI);
   storage->clear();
-  for (const Vec3& p : in) {
-    if (!bearingDeg(p, origin, &deg)) continue;  // unusable points are not beams: not kept
-    const long n = std::lround(deg / step - phase);
-    if (((n % k) + k) % k == 0) storage->push_back(p);
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    if (std::isnan(bearing[i])) continue;  // unusable points are not beams: not kept
+    const long n = std::lround(bearing[i] / step - phase);
+    if (((n % k) + k) % k == 0) storage->push_back(in[i]);
   }
   *dropped += in.size() - storage->size();
   return *storage;

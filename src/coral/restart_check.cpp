@@ -116,6 +116,7 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
         // Stopped ones too: coarse_back_within <= min_distance (validate()).
         if (tolerancesAway(c.T_a_b) < cfg.min_distance) {
           ++out.usable;  // back at the candidate's pose
+          ++out.back;
           continue;
         }
         // At (or on its way through) the pose where an earlier start's coarse registration
@@ -136,7 +137,10 @@ RestartResult betterAlignmentElsewhere(const CoralPair& pair, const Eigen::Isome
       if (!r.usable(cfg.registration)) continue;
       ++out.usable;
       const double distance = tolerancesAway(r.T_a_b);
-      if (distance < cfg.min_distance) continue;  // back at the candidate's pose
+      if (distance < cfg.min_distance) {  // back at the candidate's pose
+        ++out.back;
+        continue;
+      }
       // Q (Eq. 5) and the overlap first, one CorAl evaluation: the judge's other terms cost a
       // dozen more (the relative check's poses), and only a lower Q with the overlap can count.
       const CoralResult at = pair.evaluate(r.T_a_b, nullptr, false);

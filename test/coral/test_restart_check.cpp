@@ -140,6 +140,7 @@ TEST(RestartCheck, ACandidateAMetreOffIsRejectedWithTheTruePose) {
     expectNear(r.T_a_b, s.p.T_a_b, 0.05, 0.5);  // the true pose, a sixth of the tolerance
     EXPECT_NEAR(r.distance, 1.0 / 0.3, 0.3);    // [tolerances] about 1 m from the candidate
     EXPECT_LT(r.q, 0.8 * r.q_candidate);
+    EXPECT_LT(r.back, r.usable);  // some starts end at the true pose, not back here
   }
 }
 
@@ -148,6 +149,8 @@ TEST(RestartCheck, TheTruePoseStands) {
   const coral::RestartResult r = s.check(s.p.T_a_b);
   EXPECT_FALSE(r.better_elsewhere);
   EXPECT_GE(r.usable, 8);  // the registrations ran (and came back or ended worse)
+  EXPECT_GE(r.back, 8);    // most back at the true pose (restart_back in coral_loop_eval's CSV)
+  EXPECT_LE(r.back, r.usable);
   // The same with a Q margin of 0 (any lower Q counts) and starts nearer: still nothing.
   coral::RestartConfig near;
   near.radii = {1.0, 2.5};

@@ -118,6 +118,55 @@ TEST(CarmenLog, BeamSpacingFollowsTheNumberOfReadings) {
   EXPECT_NE(fixed.validate().find("start_angle"), std::string::npos);
 }
 
+// CARMEN 0.7 writes ROBOTLASER1 lines: their own beam geometry and range limit (a Hokuyo's 0.25
+// deg over 270 deg, a SICK's 0.5 deg) and the laser's pose, with or without remissions. A log of
+// them used to read as no scans at all ("fewer than two keyframes ... the odometry hardly moves").
+TEST(CarmenLog, RobotLaserLinesStateTheirGeometry) {
+  const std::string path = coral_test::tempPath("robotlaser", ".clf");
+  // 0.7 layout: num_remissions (0, then 2 values) and turn_axis; then the older layout without
+  // either. Beams at -90, 0, +90 deg; the reading 35 m is past the line's 30 m: no return.
+  std::ofstream(path) << "ROBOTLASER1 0 -1.5707963267948966 3.14159 1.5707963267948966 30 0.01 0 "
+                         "3 1.0 35 2.0 0 1.0 2.0 0.5 1.1 2.1 0.6 0 0 0 0 1e6 20.5 host 0.1\n"
+                         "ROBOTLASER1 0 -1.5707963267948966 3.14159 1.5707963267948966 30 0.01 1 "
+                         "3 3.0 3.0 3.0 2 7 7 1.5 2.5 0.25 0 0 0 0 0 0 0 1e6 21.0 host 0.2\n"
+                         "ROBOTLASER1 0 0 3.14159 0.7853981633974483 30 0.01 0 "
+                         "5 1 1 1 1 1 4.0 5.0 0.0 0 0 0 0 0 0 0 21.5 host 0.3\n";
+  std::vector<CarmenLaserScan> scans;
+  std::string err;
+  ASSERT_TRUE(readCarmenLog(path, &scans, &err)) << err;
+  ASSERT_EQ(scans.size(), 3u);
+  EXPECT_DOUBLE_EQ(scans[0].stamp, 20.5);
+  EXPECT_DOUBLE_EQ(scans[1].stamp, 21.0);
+  EXPECT_DOUBLE_EQ(scans[2].stamp, 21.5);
+  EXPECT_TRUE(scans[0].laser_pose.isApprox(Eigen::Vector3d(1.0, 2.0, 0.5)));
+  EXPECT_TRUE(scans[1].laser_pose.isApprox(Eigen::Vector3d(1.5, 2.5, 0.25)));
+  const Points p = laserPoints(scans[0], LaserGeometry());
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_TRUE(p[0].isApprox(Vec3(0.0, -1.0, 0.0), 1e-9));
+  EXPECT_TRUE(p[1].isApprox(Vec3(0.0, 2.0, 0.0), 1e-9));
+  // 5 beams of 45 deg from 0: the stated geometry, not the FLASER guess (180 deg over 4 steps
+  // from -90 deg).
+  const Points q = laserPoints(scans[2], LaserGeometry());
+  ASSERT_EQ(q.size(), 5u);
+  EXPECT_TRUE(q[0].isApprox(Vec3(1.0, 0.0, 0.0), 1e-9));
+  EXPECT_TRUE(q[4].isApprox(Vec3(-1.0, 0.0, 0.0), 1e-9));
+  // Beside FLASER lines (a log carrying each scan twice) only the FLASER lines are read.
+  std::ofstream(path) << kLog
+                      << "ROBOTLASER1 0 -1.57 3.14 1.57 30 0.01 0 3 1 1 1 0 0 0 0 0 0 0 0 "
+                         "0 0 0 0 30.0 host 0.3\n";
+  ASSERT_TRUE(readCarmenLog(path, &scans, &err)) << err;
+  EXPECT_EQ(scans.size(), 2u);
+  // Refused with the line or the reason: a truncated line; a log of RAWLASER lines (no pose).
+  std::ofstream(path) << "ROBOTLASER1 0 -1.57 3.14 1.57 30 0.01 0 3 1 1 1 0 0 0\n";
+  EXPECT_FALSE(readCarmenLog(path, &scans, &err));
+  EXPECT_NE(err.find(":1: malformed ROBOTLASER1 line"), std::string::npos) << err;
+  std::ofstream(path) << "RAWLASER1 0 -1.57 3.14 1.57 30 0.01 0 3 1 1 1 0 10.0 host 0.1\n";
+  EXPECT_FALSE(readCarmenLog(path, &scans, &err));
+  EXPECT_NE(err.find("no FLASER or ROBOTLASER1 line"), std::string::npos) << err;
+  EXPECT_NE(err.find("its 1 RAWLASER lines carry no pose"), std::string::npos) << err;
+  std::remove(path.c_str());
+}
+
 TEST(CarmenLog, RelationsBecomePairsWithTheEarlierScanFirst) {
   std::vector<CarmenLaserScan> log(3);
   for (int i = 0; i < 3; ++i) {

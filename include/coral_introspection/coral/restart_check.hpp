@@ -69,6 +69,8 @@ struct RestartResult {
   int merged = 0;  // starts counted with an earlier one (RestartConfig::coarse_same_within)
   // Full registrations ended once back within coarse_back_within of the candidate's pose.
   int returned = 0;
+  // Usable starts that ended within min_distance of the candidate's pose (back at it).
+  int back = 0;
 };
 
 // The loop verdict at one pose, as the check needs it.

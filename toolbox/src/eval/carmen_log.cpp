@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -74,14 +75,75 @@ bool readText(const std::string& path, std::string* text, std::string* error) {
 
 }  // namespace
 
+namespace {
+
+// ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range accuracy
+// remission_mode num_readings [ranges] [num_remissions [remissions]] laser_pose_x laser_pose_y
+// laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta laser_tv laser_rv
+// forward_safety_dist side_safety_dist [turn_axis] ipc_timestamp hostname logger_timestamp.
+// CARMEN 0.7 writes num_remissions and turn_axis; older loggers neither: told apart by the first
+// field after the ranges (an integer count or a pose) and the number of fields left (13 or 14
+// without remissions, 1 + n + 13 or 14 with).
+bool parseRobotLaser(const std::string& rest, CarmenLaserScan* s) {
+  std::istringstream ls(rest);
+  std::vector<std::string> f;
+  for (std::string w; ls >> w;) f.push_back(w);
+  auto num = [&](std::size_t i, double* v) {
+    if (i >= f.size()) return false;
+    char* end = nullptr;
+    *v = std::strtod(f[i].c_str(), &end);
+    return end != f[i].c_str() && *end == '\0' && std::isfinite(*v);
+  };
+  double type, start, fov, res, max_range, accuracy, mode, count;
+  if (!num(0, &type) || !num(1, &start) || !num(2, &fov) || !num(3, &res) || !num(4, &max_range) ||
+      !num(5, &accuracy) || !num(6, &mode) || !num(7, &count) || count < 1.0 ||
+      count != std::floor(count) || count > 1e6 || !(res > 0.0) || !(max_range > 0.0))
+    return false;
+  const std::size_t n = static_cast<std::size_t>(count), first = 8;
+  if (f.size() < first + n + 13) return false;
+  s->ranges.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!num(first + i, &s->ranges[i])) return false;
+  std::size_t at = first + n;  // the fields after the ranges
+  const std::size_t left = f.size() - at;
+  // num_remissions is written as an integer ("%d"); a pose field never is ("%f"): so a field of
+  // digits whose count leaves 13 or 14 fields is the remissions' count.
+  const bool digits = f[at].find_first_not_of("0123456789") == std::string::npos;
+  const std::size_t remissions = digits ? std::strtoul(f[at].c_str(), nullptr, 10) : 0;
+  if (digits && remissions < left && remissions + 1 + 13 <= left && left - 1 - remissions <= 14)
+    at += 1 + remissions;
+  else if (left != 13 && left != 14)
+    return false;
+  double pose[3];
+  for (int k = 0; k < 3; ++k)
+    if (!num(at + k, &pose[k])) return false;
+  s->laser_pose = Eigen::Vector3d(pose[0], pose[1], pose[2]);
+  s->start_angle = start;
+  s->angle_increment = res;
+  s->max_range = max_range;
+  return num(f.size() - 3, &s->stamp);  // ipc_timestamp, before the hostname
+}
+
+}  // namespace
+
 bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
                    std::string* error) {
   std::string text;
   if (!readText(path, &text, error)) return false;
   scans->clear();
+  std::vector<CarmenLaserScan> robot_laser;  // ROBOTLASER1 scans, used when there is no FLASER
+  std::size_t raw_laser = 0;                 // RAWLASER lines (no pose: not used)
   std::istringstream in(text);
   std::string line;
   for (std::size_t n = 1; std::getline(in, line); ++n) {
+    if (line.rfind("ROBOTLASER1 ", 0) == 0) {
+      CarmenLaserScan s;
+      if (!parseRobotLaser(line.substr(12), &s))
+        return coral::fail(error, path + ":" + std::to_string(n) + ": malformed ROBOTLASER1 line");
+      robot_laser.push_back(std::move(s));
+      continue;
+    }
+    raw_laser += line.rfind("RAWLASER", 0) == 0;
     if (line.rfind("FLASER ", 0) != 0) continue;
     // FLASER num_readings [ranges] x y theta odom_x odom_y odom_theta ipc_timestamp host ...
     std::istringstream ls(line.substr(7));
@@ -97,6 +159,14 @@ bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
       return coral::fail(error, path + ":" + std::to_string(n) + ": malformed FLASER line");
     scans->push_back(std::move(s));
   }
+  // A log may carry each scan twice (FLASER for old readers beside ROBOTLASER1): the FLASER
+  // lines then, as before ROBOTLASER1 was read.
+  if (scans->empty()) *scans = std::move(robot_laser);
+  if (scans->empty())
+    return coral::fail(error, path + ": no FLASER or ROBOTLASER1 line (laser scans with a pose)" +
+                                  (raw_laser ? "; its " + std::to_string(raw_laser) +
+                                                   " RAWLASER lines carry no pose"
+                                             : std::string()));
   return true;
 }
 
@@ -121,10 +191,18 @@ double LaserGeometry::bearing(std::size_t count, std::size_t i) const {
 }
 
 coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& g) {
+  // A ROBOTLASER1 line states its own geometry and range limit; a FLASER line (NaN) does not.
+  LaserGeometry own = g;
+  if (std::isfinite(scan.angle_increment)) {
+    own.start_angle = scan.start_angle;
+    own.angle_increment = scan.angle_increment;
+  }
+  const double max_range =
+      std::isfinite(scan.max_range) ? std::min(g.max_range, scan.max_range) : g.max_range;
   coral::Points p;
   for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double r = scan.ranges[i], a = g.bearing(scan.ranges.size(), i);
-    if (r >= g.min_range && r < g.max_range) p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+    const double r = scan.ranges[i], a = own.bearing(scan.ranges.size(), i);
+    if (r >= g.min_range && r < max_range) p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
   }
   return p;
 }

@@ -361,8 +361,7 @@ int main(int argc, char** argv) {
            "constraint,refinement,refined_accepted,refined_classifier_p,refined_relative_score,"
            "refined_q,refined_overlap,refined_constraint,refined_free_space,restart_better,"
            "restart_distance,restart_q,nearby_size,nearby_accepted,coarse_drop,verdict_accepted,x,"
-           "y,z,"
-           "yaw_deg\n";
+           "y,z,yaw_deg,restart_starts,restart_usable,restart_back\n";
     for (const Judged* j : table) {
       const eval::LoopCandidate& c = j->c;
       const coral::AlignmentVerdict& v = j->v;
@@ -387,7 +386,8 @@ int main(int argc, char** argv) {
       // The candidate's transform (b in a's frame) as judged: coral_check --transform_file.
       const Eigen::Vector3d t = c.T_a_b.translation();
       const Eigen::Matrix3d R = c.T_a_b.rotation();
-      out << t.x() << ',' << t.y() << ',' << t.z() << ',' << coral::yawOf(R) * 180.0 / M_PI << "\n";
+      out << t.x() << ',' << t.y() << ',' << t.z() << ',' << coral::yawOf(R) * 180.0 / M_PI << ','
+          << r.starts << ',' << r.usable << ',' << r.back << "\n";
     }
   }
 

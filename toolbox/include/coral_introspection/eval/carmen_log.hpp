@@ -19,6 +19,9 @@ struct CarmenLaserScan {
   double stamp = 0.0;            // ipc_timestamp [s]
   std::vector<double> ranges;    // [m], beam i at start_angle + i * angle_increment
   Eigen::Vector3d laser_pose{};  // x, y, theta of the log (raw odometry) [m, m, rad]
+  // The geometry a ROBOTLASER1 line states (start_angle, angular_resolution [rad], maximum_range
+  // [m]: readings at or past it are no return); NaN for FLASER, whose lines state none.
+  double start_angle = NAN, angle_increment = NAN, max_range = NAN;
 };
 
 // Beam geometry of the FLASER messages. A FLASER line gives only its number of readings, so by
@@ -38,12 +41,16 @@ struct LaserGeometry {
   double bearing(std::size_t count, std::size_t i) const;
 };
 
-// Every FLASER line, in file order. False with *error on a missing/corrupt file or a
-// malformed FLASER line.
+// Every FLASER line, in file order; in a log without FLASER lines, every ROBOTLASER1 line (CARMEN
+// 0.7's laser message: its own beam geometry and range limit, the laser's pose; with or without
+// remissions). False with *error on a missing/corrupt file, a malformed FLASER or ROBOTLASER1
+// line, or a log with neither (RAWLASER lines carry no pose).
 bool readCarmenLog(const std::string& path, std::vector<CarmenLaserScan>* scans,
                    std::string* error);
 
-// Sensor-frame points (z = 0) of the valid readings.
+// Sensor-frame points (z = 0) of the valid readings: in [min_range, max_range) (the lower of
+// the geometry's and the line's own), beams where the line's geometry (ROBOTLASER1) or else
+// `geometry` puts them.
 coral::Points laserPoints(const CarmenLaserScan& scan, const LaserGeometry& geometry);
 
 struct Relation {
