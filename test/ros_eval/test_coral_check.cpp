@@ -119,6 +119,24 @@ TEST_F(CoralCheck, ThreeByFourTransformEqualsFourByFour) {
   EXPECT_EQ(field(r34.out, "aligned"), "true");
 }
 
+// A transform as a script writes it, to 3 decimals ("%.3f"): its rotation is orthonormal to
+// 5e-4 only (refused as "not a proper rotation" while the bound was 1e-4). Taken,
+// re-orthonormalised: the same verdict and nearly the same Q as the exact matrix.
+TEST_F(CoralCheck, ARotationWrittenWithThreeDecimalsIsTaken) {
+  const std::string t3 = tempPath("cc_t3", ".txt");
+  {
+    std::ofstream f(t3);
+    f << std::fixed;
+    f.precision(3);
+    f << T_a_b_.matrix() << "\n";
+  }
+  const CheckRun r3 = runCheck(args(t3));
+  const CheckRun exact = runCheck(args(t_good_));
+  ASSERT_EQ(r3.status, 0) << r3.err;
+  EXPECT_EQ(field(r3.out, "aligned"), "true") << r3.out;
+  EXPECT_NEAR(std::stod(field(r3.out, "quality")), std::stod(field(exact.out, "quality")), 0.01);
+}
+
 // Degenerate input is judged (exit 0) but gets no verdict, and the JSON says why.
 TEST_F(CoralCheck, IdenticalPointsGiveNoVerdictWithAReason) {
   const std::string a = tempPath("cc_same_a", ".bin"), b = tempPath("cc_same_b", ".bin");
@@ -151,6 +169,8 @@ TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
                            << std::string("\1\0\0\0\0\0\0\0\2\0\0\0\0\0\0\0\3\0\0\0\0\0\0\0", 24);
   const std::string shear = tempPath("cc_shear", ".txt");
   std::ofstream(shear) << "1 0.5 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  const std::string skew = tempPath("cc_skew", ".txt");  // 1 % off orthonormal: not a rounding
+  std::ofstream(skew) << "1 0.01 0 0\n0 1 0 0\n0 0 1 0\n";
   coral_test::expectRefused(
       CORAL_CHECK_EXE,
       {
@@ -158,6 +178,7 @@ TEST_F(CoralCheck, BadInputGivesStatusTwoAndAMessage) {
                t_good_,
            missing},
           {args(shear), "orthonormal"},
+          {args(skew), "orthonormal"},
           {"--config " + radar_preset + " --a " + a_ + " --b " + b_ + " --transform_file " +
                t_good_,
            "polar_image"},

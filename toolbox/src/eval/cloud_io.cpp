@@ -204,6 +204,8 @@ bool readAllNumbers(const std::string& path, std::vector<double>* v, std::string
 }
 
 // 12 numbers (3x4 row-major) -> isometry; false when the rotation is not orthonormal.
+constexpr double kRotationSlack = 2e-3;  // max |R^T R - I| of a rotation as written in a file
+
 bool isometryFrom3x4(const double* m, Eigen::Isometry3d* T) {
   Eigen::Matrix3d R;
   coral::Vec3 t;
@@ -212,7 +214,11 @@ bool isometryFrom3x4(const double* m, Eigen::Isometry3d* T) {
     t(r) = m[4 * r + 3];
   }
   if (!R.allFinite() || !t.allFinite()) return false;
-  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4) return false;
+  // A rotation written with 3 decimals deviates by up to ~1.7e-3 (0.1 deg at most; 1e-4, the
+  // bound until 2026-12-07, refused some written with 4): re-orthonormalised below. A shear
+  // or a scale is not a rounded rotation.
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > kRotationSlack)
+    return false;
   if (R.determinant() < 0.0) return false;
   T->setIdentity();
   T->linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
@@ -283,8 +289,9 @@ bool readTransformFile(const std::string& path, Eigen::Isometry3d* T, std::strin
   if (v.size() == 16 && !(v[12] == 0.0 && v[13] == 0.0 && v[14] == 0.0 && v[15] == 1.0))
     return coral::fail(error, path + ": the last row of a 4x4 transform must be 0 0 0 1");
   if (!isometryFrom3x4(v.data(), T))
-    return coral::fail(error,
-                       path + ": the rotation part is not a proper rotation (orthonormal, det +1)");
+    return coral::fail(error, path +
+                                  ": the rotation part is not a proper rotation (orthonormal to " +
+                                  std::to_string(kRotationSlack) + ", det +1)");
   return true;
 }
 
