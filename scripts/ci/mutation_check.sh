@@ -59,7 +59,6 @@ MUTATIONS=(
   "coarse probe judges poses above its band@src/coral/verdict.cpp@return gate\.coarse_below_probability >= 1\.0 \|\| p < gate\.coarse_below_probability;@return true;@test_coarse_probe"
   "planar graph never keeps the linear start's solve@toolbox/src/eval/pose_graph.cpp@if \(linear\.final_cost < res\.final_cost\) \{@if (false) {@test_pose_graph"
   "odometry yaw corrected the wrong way@toolbox/src/eval/odometry_calibration.cpp@AngleAxisd\(-err,@AngleAxisd(err,@test_odometry_calibration"
-  "laser-scan nodelet refuses LaserScan requests@src/ros/coral_check_alignment.cpp@return k == Kind::kLaserScans \|\| k == Kind::kClouds;@return k == Kind::kClouds;@test_check_alignment"
   "ROBOTLASER1 remission values read as the pose@toolbox/src/eval/carmen_log.cpp@at \+= 1 \+ remissions;@at += 1;@test_pair_datasets"
 )
 
