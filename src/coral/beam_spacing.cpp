@@ -50,15 +50,19 @@ std::vector<double> bearingsOf(const Points& pts, const Vec3& origin) {
   for (std::size_t i = 0; i < pts.size(); ++i) bearingDeg(pts[i], origin, &out[i]);
   return out;
 }
+
+// The spacing of bearingsOf's result (its points without a bearing left out).
+double medianStepOfBearings(const std::vector<double>& bearing) {
+  std::vector<double> valid;
+  valid.reserve(bearing.size());
+  for (const double b : bearing)
+    if (!std::isnan(b)) valid.push_back(b);
+  return medianStepOf(&valid);
+}
 }  // namespace
 
 double medianBeamStepDeg(const Points& pts, const Vec3& origin) {
-  std::vector<double> bearings;
-  bearings.reserve(pts.size());
-  double deg = 0.0;
-  for (const Vec3& p : pts)
-    if (bearingDeg(p, origin, &deg)) bearings.push_back(deg);
-  return medianStepOf(&bearings);
+  return medianStepOfBearings(bearingsOf(pts, origin));
 }
 
 const Points& thinToBeamStep(const Points& in, const Vec3& origin, double reference_step_deg,
@@ -66,11 +70,7 @@ const Points& thinToBeamStep(const Points& in, const Vec3& origin, double refere
   if (!(reference_step_deg > 0.0)) return in;
   // One bearing per point (atan2 once), for the spacing, the phase and the selection.
   const std::vector<double> bearing = bearingsOf(in, origin);
-  std::vector<double> valid;
-  valid.reserve(bearing.size());
-  for (const double b : bearing)
-    if (!std::isnan(b)) valid.push_back(b);
-  const double step = medianStepOf(&valid);
+  const double step = medianStepOfBearings(bearing);
   if (!std::isfinite(step)) return in;
   const long k = std::lround(reference_step_deg / step);
   if (k < 2) return in;

@@ -7,6 +7,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <cstdlib>
+#include <initializer_list>
 
 #include "coral_introspection/ros/conversions.hpp"
 #include "coral_introspection/ros/coral_check_alignment.hpp"
@@ -66,6 +67,19 @@ void expectRefused(const CheckAlignment::Request& req, const ros_adapters::NodeC
   EXPECT_EQ(res.result.probability, 0.0);
   EXPECT_EQ(res.error, "request refused: " + why);
   EXPECT_EQ(res.result.reason, res.error);
+}
+
+// One refused request: to a nodelet of this config, refused with `why`.
+struct Refusal {
+  const CheckAlignment::Request& request;
+  const ros_adapters::NodeConfig& config;
+  const char* why;
+};
+void expectAllRefused(std::initializer_list<Refusal> cases) {
+  for (const Refusal& c : cases) {
+    SCOPED_TRACE(c.why);
+    expectRefused(c.request, c.config, c.why);
+  }
 }
 
 }  // namespace
@@ -131,11 +145,7 @@ TEST(CheckAlignmentRequest, NoScanOneScanOrMixedKindsAreRefused) {
   one_image.image_b = mixed.image_b = all_four.image_b = ringImage(11.0);
   all_four.image_a = ringImage(10.0);
   const ros_adapters::NodeConfig lidar, radar = radarConfig();
-  const struct {
-    const CheckAlignment::Request& request;
-    const ros_adapters::NodeConfig& config;
-    const char* why;
-  } cases[] = {
+  expectAllRefused({
       {none, lidar,
        "the request holds no scan (cloud_a, cloud_b, image_a, image_b, scan_a and scan_b are "
        "all empty); this nodelet is configured for point clouds (input_type pointcloud): fill "
@@ -151,11 +161,7 @@ TEST(CheckAlignmentRequest, NoScanOneScanOrMixedKindsAreRefused) {
        "the request mixes point clouds and polar images (cloud_a, cloud_b, image_a, image_b); "
        "this nodelet is configured for polar radar images (input_type polar_image): fill "
        "image_a and image_b only"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.why);
-    expectRefused(c.request, c.config, c.why);
-  }
+  });
 }
 
 namespace {
@@ -244,11 +250,7 @@ TEST(CheckAlignmentRequest, LaserScansToOtherNodeletsOneScanOrMixedKindsAreRefus
   unreadable.scan_b.angle_increment = 0.0f;  // beams without a direction
   for (auto* r : {&scans, &one, &mixed, &all, &none, &unreadable})
     r->transform_a_b = ros_adapters::toTransformMsg(p.T_a_b);
-  const struct {
-    const CheckAlignment::Request& request;
-    const ros_adapters::NodeConfig& config;
-    const char* why;
-  } cases[] = {
+  expectAllRefused({
       {scans, lidar,
        "this nodelet is configured for point clouds (input_type pointcloud); the request holds "
        "laser scans (scan_a, scan_b): send them to a nodelet with input_type laser_scan"},
@@ -269,11 +271,7 @@ TEST(CheckAlignmentRequest, LaserScansToOtherNodeletsOneScanOrMixedKindsAreRefus
        "the request mixes point clouds, polar images and laser scans (cloud_b, image_a, "
        "scan_a); this nodelet is configured for point clouds (input_type pointcloud): fill "
        "cloud_a and cloud_b only"},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.why);
-    expectRefused(c.request, c.config, c.why);
-  }
+  });
   // A scan that cannot be read is refused with the field and the reason.
   CheckAlignment::Response res;
   EXPECT_FALSE(ros_adapters::answerCheckAlignment(unreadable, laser, &res));

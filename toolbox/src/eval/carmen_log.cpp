@@ -73,10 +73,6 @@ bool readText(const std::string& path, std::string* text, std::string* error) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // ROBOTLASER1 laser_type start_angle field_of_view angular_resolution maximum_range accuracy
 // remission_mode num_readings [ranges] [num_remissions [remissions]] laser_pose_x laser_pose_y
 // laser_pose_theta robot_pose_x robot_pose_y robot_pose_theta laser_tv laser_rv
