@@ -1,6 +1,7 @@
 #include "coral_introspection/config/text_fields.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 
 namespace coral_introspection {
@@ -26,6 +27,15 @@ bool parseInteger(const std::string& text, long min, long max, long* out) {
   const long n = std::strtol(text.c_str(), nullptr, 10);
   if (errno == ERANGE || n < min || n > max) return false;
   *out = n;
+  return true;
+}
+
+bool parseFiniteNumber(const std::string& text, double* out) {
+  char* end = nullptr;
+  errno = 0;
+  const double x = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x)) return false;
+  *out = x;
   return true;
 }
 

@@ -39,16 +39,31 @@ constexpr KindInfo kKinds[] = {
     {Kind::kLaserScans, "scan_a", "scan_b", "laser scans", "laser_scan"},
 };
 
-std::pair<bool, bool> givenPair(const CheckAlignment::Request& req, Kind k) {
+// The request's two messages of kind k, handed to f(a, b): the one place that maps a kind to
+// its fields (f is generic: the messages differ in type, its result must not).
+template <typename F>
+auto withPair(const CheckAlignment::Request& req, Kind k, F&& f) {
   switch (k) {
     case Kind::kClouds:
-      return {given(req.cloud_a), given(req.cloud_b)};
+      return f(req.cloud_a, req.cloud_b);
     case Kind::kImages:
-      return {given(req.image_a), given(req.image_b)};
+      return f(req.image_a, req.image_b);
     case Kind::kLaserScans:
       break;
   }
-  return {given(req.scan_a), given(req.scan_b)};
+  return f(req.scan_a, req.scan_b);
+}
+
+const KindInfo& infoOf(Kind k) {
+  for (const auto& i : kKinds)
+    if (i.kind == k) return i;
+  return kKinds[0];  // unreachable: every kind has its row
+}
+
+std::pair<bool, bool> givenPair(const CheckAlignment::Request& req, Kind k) {
+  return withPair(req, k, [](const auto& a, const auto& b) {
+    return std::pair<bool, bool>{given(a), given(b)};
+  });
 }
 
 // What a nodelet of this input type judges: its own kind, and a laser-scan nodelet also planar
@@ -125,12 +140,9 @@ std::string requestKindError(const CheckAlignment::Request& req, InputType type)
 bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& cfg,
                           CheckAlignment::Response* res) {
   const Kind kind = heldKind(req);
-  const std_msgs::Header& ha = kind == Kind::kClouds   ? req.cloud_a.header
-                               : kind == Kind::kImages ? req.image_a.header
-                                                       : req.scan_a.header;
-  const ros::Time stamp_b = kind == Kind::kClouds   ? req.cloud_b.header.stamp
-                            : kind == Kind::kImages ? req.image_b.header.stamp
-                                                    : req.scan_b.header.stamp;
+  const auto [ha, stamp_b] = withPair(req, kind, [](const auto& a, const auto& b) {
+    return std::pair<std_msgs::Header, ros::Time>{a.header, b.header.stamp};
+  });
   SensorScan sa, sb;
   std::string error = requestKindError(req, cfg.input_type);
   auto convert = [&](const auto& msg, const char* name, SensorScan* s) {
@@ -139,15 +151,10 @@ bool answerCheckAlignment(const CheckAlignment::Request& req, const NodeConfig& 
     return false;
   };
   auto convertBoth = [&] {
-    switch (kind) {
-      case Kind::kClouds:
-        return convert(req.cloud_a, "cloud_a", &sa) && convert(req.cloud_b, "cloud_b", &sb);
-      case Kind::kImages:
-        return convert(req.image_a, "image_a", &sa) && convert(req.image_b, "image_b", &sb);
-      case Kind::kLaserScans:
-        break;
-    }
-    return convert(req.scan_a, "scan_a", &sa) && convert(req.scan_b, "scan_b", &sb);
+    const KindInfo& info = infoOf(kind);
+    return withPair(req, kind, [&](const auto& a, const auto& b) {
+      return convert(a, info.a, &sa) && convert(b, info.b, &sb);
+    });
   };
   Eigen::Isometry3d T_a_b;
   const bool ok = error.empty() && convertBoth() && toEigen(req.transform_a_b, &T_a_b, &error);

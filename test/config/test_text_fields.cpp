@@ -1,5 +1,6 @@
-// config::splitFields and config::parseInteger: the strict list and integer reading shared by
-// the tools' options, coral_sequence_demo's scan indices and the samples CSV.
+// config::splitFields, config::parseInteger and config::parseFiniteNumber: the strict list and
+// number reading shared by the tools' options, coral_sequence_demo's scan indices, the samples
+// CSV, the Oxford ground truth and CARMEN's ROBOTLASER1 lines.
 #include <gtest/gtest.h>
 
 #include "coral_introspection/config/text_fields.hpp"
@@ -35,6 +36,22 @@ TEST(TextFields, ParseIntegerTakesWholeDecimalIntegersInRangeOnly) {
   EXPECT_FALSE(parseInteger("-1", 0, 10, &n));
   EXPECT_FALSE(parseInteger("99999999999999999999", 0, 1000000000, &n));  // ERANGE
   EXPECT_EQ(n, 42);                                                       // unchanged on refusal
+}
+
+TEST(TextFields, ParseFiniteNumberTakesWholeFiniteNumbersOnly) {
+  double x = 42.0;
+  EXPECT_TRUE(parseFiniteNumber("0.5", &x));
+  EXPECT_EQ(x, 0.5);
+  EXPECT_TRUE(parseFiniteNumber("-2", &x));
+  EXPECT_EQ(x, -2.0);
+  EXPECT_TRUE(parseFiniteNumber("1e-4", &x));
+  EXPECT_EQ(x, 1e-4);
+  EXPECT_TRUE(parseFiniteNumber("81.83", &x));  // a CARMEN range
+  EXPECT_EQ(x, 81.83);
+  x = 42.0;
+  for (const char* bad : {"", "-", "0.5x", "1,5", "nan", "-nan", "inf", "-inf", "1e999", "x1"})
+    EXPECT_FALSE(parseFiniteNumber(bad, &x)) << "'" << bad << "'";
+  EXPECT_EQ(x, 42.0);  // unchanged on refusal
 }
 
 }  // namespace

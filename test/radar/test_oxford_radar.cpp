@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "coral_introspection/coral/coral.hpp"
 #include "coral_introspection/coral/neighbour_grid.hpp"
@@ -71,6 +74,44 @@ TEST(OxfordRadar, DatasetLoadsWithGroundTruth) {
   const Eigen::Isometry3d T = ds.T_first_scan(3);
   EXPECT_TRUE(T.isApprox(ds.T_prev_curr[1] * ds.T_prev_curr[2] * ds.T_prev_curr[3]));
   EXPECT_FALSE(ds.load(coral_data + "/nonexistent", &err));
+}
+
+TEST(OxfordRadar, AMalformedGroundTruthNumberIsRefused) {
+  CORAL_REQUIRE_DATA("oxford_radar_tiny");
+  // The same scans with the first ground-truth row's x written otherwise: std::stod read "0.5x"
+  // as 0.5 and "nan" as a pose; the reader refuses both and names the row.
+  namespace fs = std::filesystem;
+  const fs::path dir = coral_test::tempPath("oxford_malformed", "");
+  fs::create_directories(dir / "gt");
+  fs::create_directory_symlink(fs::absolute(coral_data + "/radar"), dir / "radar");
+  fs::copy_file(coral_data + "/radar.timestamps", dir / "radar.timestamps");
+  std::ifstream in(coral_data + "/gt/radar_odometry.csv");
+  std::string header, row, rest;
+  std::getline(in, header);
+  std::getline(in, row);
+  rest.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::vector<std::string> f;
+  std::stringstream ss(row);
+  for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+  ASSERT_GE(f.size(), 10u);
+  auto write = [&](const std::string& x) {
+    std::ostringstream line;
+    for (std::size_t i = 0; i < f.size(); ++i) line << (i ? "," : "") << (i == 2 ? x : f[i]);
+    std::ofstream(dir / "gt" / "radar_odometry.csv") << header << "\n"
+                                                     << line.str() << "\n"
+                                                     << rest;
+    return line.str();
+  };
+  OxfordDataset ds;
+  std::string err;
+  write(f[2]);
+  EXPECT_TRUE(ds.load(dir.string(), &err)) << err;  // the copy as it is loads
+  for (const std::string bad : {f[2] + "x", std::string("nan"), std::string("")}) {
+    const std::string line = write(bad);
+    EXPECT_FALSE(ds.load(dir.string(), &err)) << "x = '" << bad << "'";
+    EXPECT_NE(err.find("malformed row '" + line + "'"), std::string::npos) << err;
+  }
+  fs::remove_all(dir);
 }
 
 TEST(OxfordRadar, FeatureCountsInPlausibleBand) {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include "coral_introspection/config/text_fields.hpp"
 #include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/coral/validation.hpp"
 
@@ -85,10 +86,7 @@ bool parseRobotLaser(const std::string& rest, CarmenLaserScan* s) {
   std::vector<std::string> f;
   for (std::string w; ls >> w;) f.push_back(w);
   auto num = [&](std::size_t i, double* v) {
-    if (i >= f.size()) return false;
-    char* end = nullptr;
-    *v = std::strtod(f[i].c_str(), &end);
-    return end != f[i].c_str() && *end == '\0' && std::isfinite(*v);
+    return i < f.size() && config::parseFiniteNumber(f[i], v);
   };
   double type, start, fov, res, max_range, accuracy, mode, count;
   if (!num(0, &type) || !num(1, &start) || !num(2, &fov) || !num(3, &res) || !num(4, &max_range) ||

@@ -4,6 +4,7 @@
 
 #include <sys/stat.h>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -53,12 +54,16 @@ bool OxfordDataset::load(const std::string& dir, std::string* error) {
   while (std::getline(gt, line)) {
     const std::vector<std::string> f = config::splitFields(line, ',');
     if (f.size() < 10) continue;
-    try {
-      const double x = std::stod(f[2]), y = std::stod(f[3]), yaw = std::stod(f[7]);
-      rel[{std::stoll(f[8]), std::stoll(f[9])}] = coral::se2(x, y, yaw);
-    } catch (const std::exception&) {
+    // Whole finite numbers only: std::stod read "0.5x" as 0.5 and "nan" as a pose.
+    double x, y, yaw;
+    long source, destination;
+    const long max_stamp = std::numeric_limits<long>::max();
+    if (!config::parseFiniteNumber(f[2], &x) || !config::parseFiniteNumber(f[3], &y) ||
+        !config::parseFiniteNumber(f[7], &yaw) ||
+        !config::parseInteger(f[8], 0, max_stamp, &source) ||
+        !config::parseInteger(f[9], 0, max_stamp, &destination))
       return coral::fail(error, gt_path + ": malformed row '" + line + "'");
-    }
+    rel[{source, destination}] = coral::se2(x, y, yaw);
   }
   T_prev_curr.push_back(Eigen::Isometry3d::Identity());
   for (std::size_t i = 1; i < stamps_us.size(); ++i) {

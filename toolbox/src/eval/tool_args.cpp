@@ -81,18 +81,6 @@ std::optional<int> readCommandLine(const char* tool, const char* usage, int argc
   return std::nullopt;
 }
 
-namespace {
-// v as a finite number (strtod syntax, the whole string); false when it is not one.
-bool parseNumber(const std::string& v, double* out) {
-  char* end = nullptr;
-  errno = 0;
-  const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x)) return false;
-  *out = x;
-  return true;
-}
-}  // namespace
-
 bool numberOption(const ToolArgs& args, const std::string& option, double fallback, double* out,
                   std::string* error) {
   if (!args.has(option)) {
@@ -100,7 +88,7 @@ bool numberOption(const ToolArgs& args, const std::string& option, double fallba
     return true;
   }
   const std::string v = args.get(option);
-  if (!parseNumber(v, out)) {
+  if (!config::parseFiniteNumber(v, out)) {
     *error = option + " must be a number (got '" + v + "')";
     return false;
   }
@@ -117,7 +105,7 @@ bool numberListOption(const ToolArgs& args, const std::string& option,
   std::vector<double> list;
   for (const std::string& item : config::splitFields(args.get(option), ',')) {
     double x;
-    if (!parseNumber(item, &x)) {
+    if (!config::parseFiniteNumber(item, &x)) {
       *error = option + " must be numbers separated by commas (got '" + item + "')";
       return false;
     }
