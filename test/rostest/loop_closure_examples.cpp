@@ -1,9 +1,9 @@
 // rostest: the loop-closure examples of doc/examples (C++ and rospy) against coral_node with
 // the lidar_3d preset (see loop_closure_examples.test). A true revisit of the hku1 Livox
 // keyframes (109 -> 161, transform from the optimised poses) must be added as an edge, the
-// same pair with the transform 2.4 m off along x rejected. The rospy example also as a 2D back
-// end: an ACES loop relation sent as two sensor_msgs/LaserScan to a lidar_2d node with
-// input_type laser_scan.
+// same pair with the transform 2.4 m off along x rejected. Both also as a 2D back end: an ACES
+// loop relation sent as two sensor_msgs/LaserScan to a lidar_2d node with input_type
+// laser_scan.
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <unistd.h>
@@ -157,21 +157,24 @@ TEST(LoopClosureExamples, LaserScanRelationAddedShiftedRejected) {
   writeTransform(t_true, relation->T_a_b);
   writeTransform(t_off, T_off);
   ASSERT_TRUE(ros::service::waitForService("/laser/check_alignment", ros::Duration(30.0)));
-  const std::string cmd =
-      rospyExample() + " --laser_scan --service /laser/check_alignment --a " + a + " --b " + b;
-  int status = -1;
-  std::string out = run(cmd + " --transform_file " + t_true, &status);
-  EXPECT_EQ(status, 0);
-  EXPECT_EQ(out, "edge added\n");
-  out = run(cmd + " --transform_file " + t_off, &status);
-  EXPECT_EQ(status, 0);
-  EXPECT_EQ(out.rfind("edge rejected: ", 0), 0u) << out;
-  EXPECT_GT(out.size(), std::string("edge rejected: \n").size()) << "no reason";
-  EXPECT_EQ(out.find("overlap"), std::string::npos) << "judged, not refused: " << out;
-  std::printf("rospy, LaserScans (0.6 m off): %s", out.c_str());
-  // The 3D node refuses LaserScans with the input_type that judges them.
-  out = run(cmd + " --transform_file " + t_true + " --service /check_alignment", &status);
-  EXPECT_NE(out.find("input_type laser_scan"), std::string::npos) << out;
+  const std::string cpp = ownDir() + "/coral_loop_closure_example";
+  ASSERT_EQ(access(cpp.c_str(), X_OK), 0) << cpp << " not built (make coral_loop_closure_example)";
+  const std::string args = " --laser_scan --service /laser/check_alignment --a " + a + " --b " + b;
+  for (const std::string& exe : {cpp, rospyExample()}) {
+    int status = -1;
+    std::string out = run(exe + args + " --transform_file " + t_true, &status);
+    EXPECT_EQ(status, 0) << exe;
+    EXPECT_EQ(out, "edge added\n") << exe;
+    out = run(exe + args + " --transform_file " + t_off, &status);
+    EXPECT_EQ(status, 0) << exe;
+    EXPECT_EQ(out.rfind("edge rejected: ", 0), 0u) << exe << ": " << out;
+    EXPECT_GT(out.size(), std::string("edge rejected: \n").size()) << exe << ": no reason";
+    EXPECT_EQ(out.find("overlap"), std::string::npos) << exe << ": judged, not refused: " << out;
+    std::printf("%s, LaserScans (0.6 m off): %s", exe.c_str(), out.c_str());
+    // The 3D node refuses LaserScans with the input_type that judges them.
+    out = run(exe + args + " --transform_file " + t_true + " --service /check_alignment", &status);
+    EXPECT_NE(out.find("input_type laser_scan"), std::string::npos) << exe << ": " << out;
+  }
 }
 
 }  // namespace
