@@ -81,6 +81,21 @@ std::string rospyExample() {
          "/usr/bin/python3 " + coral_test::sourceDir() + "/doc/examples/loop_closure_gate.py";
 }
 
+// Runs example `exe` with `args`: the candidate of t_true must be added, that of t_off rejected
+// with a reason. Returns the rejection line.
+std::string expectAddedThenRejected(const std::string& exe, const std::string& args,
+                                    const std::string& t_true, const std::string& t_off) {
+  int status = -1;
+  std::string out = run(exe + args + " --transform_file " + t_true, &status);
+  EXPECT_EQ(status, 0) << exe;
+  EXPECT_EQ(out, "edge added\n") << exe;
+  out = run(exe + args + " --transform_file " + t_off, &status);
+  EXPECT_EQ(status, 0) << exe;
+  EXPECT_EQ(out.rfind("edge rejected: ", 0), 0u) << exe << ": " << out;
+  EXPECT_GT(out.size(), std::string("edge rejected: \n").size()) << exe << ": no reason";
+  return out;
+}
+
 TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
   CORAL_REQUIRE_DATA("hku1_livox_keyframes");
   Eigen::Isometry3d P109, P161;
@@ -101,14 +116,7 @@ TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
   const std::string pair =
       " --a " + coral_data + "/Scans/000109.pcd --b " + coral_data + "/Scans/000161.pcd";
   for (const std::string& exe : {cpp, py}) {
-    int status = -1;
-    std::string out = run(exe + pair + " --transform_file " + t_true, &status);
-    EXPECT_EQ(status, 0) << exe;
-    EXPECT_EQ(out, "edge added\n") << exe;
-    out = run(exe + pair + " --transform_file " + t_off, &status);
-    EXPECT_EQ(status, 0) << exe;
-    EXPECT_EQ(out.rfind("edge rejected: ", 0), 0u) << exe << ": " << out;
-    EXPECT_GT(out.size(), std::string("edge rejected: \n").size()) << exe << ": no reason";
+    const std::string out = expectAddedThenRejected(exe, pair, t_true, t_off);
     std::printf("%s (2.4 m off): %s", exe.c_str(), out.c_str());
   }
   std::remove(t_true.c_str());
@@ -116,8 +124,8 @@ TEST(LoopClosureExamples, TrueRevisitAddedShiftedRejected) {
 }
 
 // A 2D back end's call: the first ACES benchmark loop relation (file order) that lidar_2d's
-// loop verdict accepts in process, its two scans written as planar PCD files; the rospy example
-// with --laser_scan rebuilds their LaserScans and must add it, and reject it 0.6 m (two
+// loop verdict accepts in process, its two scans written as planar PCD files; both examples
+// with --laser_scan rebuild their LaserScans and must add it, and reject it 0.6 m (two
 // tolerances) off by a term of the verdict (judged, not refused).
 TEST(LoopClosureExamples, LaserScanRelationAddedShiftedRejected) {
   CORAL_REQUIRE_DATA("radish_aces");
@@ -161,17 +169,11 @@ TEST(LoopClosureExamples, LaserScanRelationAddedShiftedRejected) {
   ASSERT_EQ(access(cpp.c_str(), X_OK), 0) << cpp << " not built (make coral_loop_closure_example)";
   const std::string args = " --laser_scan --service /laser/check_alignment --a " + a + " --b " + b;
   for (const std::string& exe : {cpp, rospyExample()}) {
-    int status = -1;
-    std::string out = run(exe + args + " --transform_file " + t_true, &status);
-    EXPECT_EQ(status, 0) << exe;
-    EXPECT_EQ(out, "edge added\n") << exe;
-    out = run(exe + args + " --transform_file " + t_off, &status);
-    EXPECT_EQ(status, 0) << exe;
-    EXPECT_EQ(out.rfind("edge rejected: ", 0), 0u) << exe << ": " << out;
-    EXPECT_GT(out.size(), std::string("edge rejected: \n").size()) << exe << ": no reason";
+    std::string out = expectAddedThenRejected(exe, args, t_true, t_off);
     EXPECT_EQ(out.find("overlap"), std::string::npos) << exe << ": judged, not refused: " << out;
     std::printf("%s, LaserScans (0.6 m off): %s", exe.c_str(), out.c_str());
     // The 3D node refuses LaserScans with the input_type that judges them.
+    int status = -1;
     out = run(exe + args + " --transform_file " + t_true + " --service /check_alignment", &status);
     EXPECT_NE(out.find("input_type laser_scan"), std::string::npos) << exe << ": " << out;
   }
