@@ -18,24 +18,28 @@ coral_launcher_args() {
   fi
 }
 
-# Links this source tree into the catkin workspace $1 and prints --force-cmake when the link
-# pointed elsewhere before (another clone): the test binaries carry the source path that
-# CMake resolved (CORAL_SOURCE_DIR), and catkin_make does not re-run CMake for a moved link,
-# so without it the tests would read the other clone's configs.
+# Links this source tree into the catkin workspace $1 and prints --force-cmake when the
+# workspace was last configured for another tree (another clone): the test binaries carry the
+# source path that CMake resolved (CORAL_SOURCE_DIR), and catkin_make does not re-run CMake for
+# a moved link, so without it the tests would read the other clone's configs. The resolved path
+# of the last configure is kept in build/coral_source_configured, so a link set back by hand
+# (ln -sfn) is caught too.
 coral_link_source() {
-  local link="$1/src/coral_introspection"
+  local link="$1/src/coral_introspection" real
+  real="$(cd "${CORAL_REPO}" && pwd -P)"
   mkdir -p "$1/src"
-  if [ "$(readlink "${link}" 2>/dev/null)" != "${CORAL_REPO}" ]; then
-    ln -sfn "${CORAL_REPO}" "${link}"
-    if [ -f "$1/build/CMakeCache.txt" ]; then
-      touch "$1/build/coral_messages_configured.stamp"
-      echo "--force-cmake"
-    fi
+  [ "$(readlink "${link}" 2>/dev/null)" = "${CORAL_REPO}" ] || ln -sfn "${CORAL_REPO}" "${link}"
+  [ -f "$1/build/CMakeCache.txt" ] || return 0
+  local configured="$1/build/coral_source_configured"
+  local stamp="$1/build/coral_messages_configured.stamp"
+  if [ "$(cat "${configured}" 2>/dev/null)" != "${real}" ]; then
+    echo "${real}" >"${configured}"
+    touch "${stamp}"
+    echo "--force-cmake"
   # A message or service changed since the last configure (a pull that adds a field): genmsg's
   # dependency check stops make with "Please rerun cmake" instead of regenerating. The stamp
   # marks the configure that saw them (CMakeCache.txt keeps its time when nothing in it changes).
-  elif [ -f "$1/build/CMakeCache.txt" ]; then
-    local stamp="$1/build/coral_messages_configured.stamp"
+  else
     [ -f "${stamp}" ] || touch -r "$1/build/CMakeCache.txt" "${stamp}"
     if [ -n "$(find "${CORAL_REPO}/msg" "${CORAL_REPO}/srv" -newer "${stamp}" -print -quit \
       2>/dev/null)" ]; then
