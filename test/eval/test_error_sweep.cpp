@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "coral_introspection/coral/refinement.hpp"
 #include "coral_introspection/coral/types.hpp"
 #include "coral_introspection/eval/error_sweep.hpp"
 
@@ -93,4 +94,52 @@ TEST(ErrorSweep, TurnsAboutRollPitchAndATiltedAxis) {
   EXPECT_TRUE(eval::parseTurnAxis("tilted", &a));
   EXPECT_EQ(a, eval::TurnAxis::kTilted);
   EXPECT_FALSE(eval::parseTurnAxis("Roll", &a));
+}
+
+// Errors between the axes (coral_error_sweep --oblique): per multiple k, directions between two
+// translation axes at 22.5, 45 and 67.5 deg (x-y; in 3D also x-z, y-z) and x or y with yaw at
+// shares (1, 1), (1, 0.5), (0.5, 1), all four sign pairs; each of size k by the verdict's own
+// measure (coral::toleranceSize, the larger of |t| / tolerance and angle / rotation tolerance),
+// and both of its components non-zero.
+TEST(ErrorSweep, ObliqueErrorsLieBetweenTheAxesAtTheirMultiple) {
+  const coral::ToleranceConfig tol{0.3, 2.0};
+  for (int dim : {2, 3}) {
+    const auto errors = eval::sweepErrors(tol, dim, {1, 4}, {}, {}, true);
+    const std::size_t per_k = (dim == 2 ? 1 : 3) * 3 * 4 + 2 * 3 * 4;
+    ASSERT_EQ(errors.size(), 1u + 2u * (dim == 2 ? 6u : 12u) + 2u * per_k) << dim;
+    std::map<std::string, Eigen::Isometry3d> by_label;
+    std::size_t oblique = 0;
+    for (const eval::SweepError& e : errors) {
+      by_label[e.label] = e.delta;
+      if (e.axis_name != "oblique") continue;
+      ++oblique;
+      EXPECT_NEAR(coral::toleranceSize(e.delta, tol), e.multiple, 1e-9) << e.label;
+      const Eigen::Vector3d t = e.delta.translation();
+      const double yaw = std::abs(yawDeg(e.delta));
+      const int nonzero = (std::abs(t.x()) > 1e-9) + (std::abs(t.y()) > 1e-9) +
+                          (std::abs(t.z()) > 1e-9) + (yaw > 1e-9);
+      EXPECT_EQ(nonzero, 2) << e.label;
+      if (dim == 2) {
+        EXPECT_NEAR(t.z(), 0.0, 1e-12) << e.label;
+      }
+    }
+    EXPECT_EQ(oblique, 2 * per_k) << dim;
+    // Known answers: a diagonal shares the length, a turn with a shift takes it whole.
+    ASSERT_EQ(by_label.count("x+y-4"), 1u);
+    EXPECT_TRUE(by_label["x+y-4"].translation().isApprox(
+        Eigen::Vector3d(1.2 / std::sqrt(2.0), -1.2 / std::sqrt(2.0), 0.0), 1e-12));
+    ASSERT_EQ(by_label.count("x-y+1@22.5"), 1u);
+    EXPECT_TRUE(by_label["x-y+1@22.5"].translation().isApprox(
+        Eigen::Vector3d(-0.3 * std::cos(M_PI / 8), 0.3 * std::sin(M_PI / 8), 0.0), 1e-12));
+    ASSERT_EQ(by_label.count("y-yaw+1"), 1u);
+    EXPECT_TRUE(by_label["y-yaw+1"].translation().isApprox(Eigen::Vector3d(0, -0.3, 0), 1e-12));
+    EXPECT_NEAR(yawDeg(by_label["y-yaw+1"]), 2.0, 1e-9);
+    ASSERT_EQ(by_label.count("x+yaw-4@1:0.5"), 1u);
+    EXPECT_TRUE(
+        by_label["x+yaw-4@1:0.5"].translation().isApprox(Eigen::Vector3d(1.2, 0, 0), 1e-12));
+    EXPECT_NEAR(yawDeg(by_label["x+yaw-4@1:0.5"]), -4.0, 1e-9);
+    EXPECT_EQ(by_label.count("x+z+1"), dim == 3 ? 1u : 0u);
+  }
+  // Off by default: the doc's tables are the axes' grid.
+  for (const eval::SweepError& e : eval::sweepErrors(tol, 3)) EXPECT_NE(e.axis_name, "oblique");
 }

@@ -53,12 +53,56 @@ void addTurns(TurnAxis turn, double deg, std::vector<SweepError>* out) {
     out->push_back(e);
   }
 }
+// The oblique errors of k tolerances (sweepErrors, `oblique`).
+void addOblique(const coral::ToleranceConfig& tol, int dimension, double k,
+                std::vector<SweepError>* out) {
+  const double t = k * tol.translation, rot = k * tol.rotation_deg * M_PI / 180.0;
+  const Eigen::Vector3d units[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
+                                    Eigen::Vector3d::UnitZ()};
+  const char* names[3] = {"x", "y", "z"};
+  auto add = [&](const std::string& a, int s1, const std::string& b, int s2,
+                 const Eigen::Vector3d& shift, double yaw, const std::string& mix) {
+    SweepError e;
+    e.axis_name = "oblique";
+    e.sign = 1;
+    e.multiple = k;
+    e.magnitude = t;
+    e.delta.translation() = shift;
+    e.delta.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    std::ostringstream l;
+    l << a << (s1 > 0 ? '+' : '-') << b << (s2 > 0 ? '+' : '-') << k << mix;
+    e.label = l.str();
+    out->push_back(e);
+  };
+  // Two translation axes: the error's direction at 45 deg between them (no suffix) and at
+  // 22.5 and 67.5 deg ("@22.5"), |t| = k tolerances.
+  const int planes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int p = 0; p < (dimension == 3 ? 3 : 1); ++p)
+    for (double deg : {45.0, 22.5, 67.5})
+      for (int s1 : {1, -1})
+        for (int s2 : {1, -1}) {
+          const double c = std::cos(deg * M_PI / 180.0), s = std::sin(deg * M_PI / 180.0);
+          std::ostringstream mix;
+          if (deg != 45.0) mix << "@" << deg;
+          add(names[planes[p][0]], s1, names[planes[p][1]], s2,
+              t * (s1 * c * units[planes[p][0]] + s2 * s * units[planes[p][1]]), 0.0, mix.str());
+        }
+  // x or y with yaw: both k tolerances (no suffix), or one of them half ("@1:0.5", "@0.5:1").
+  for (int axis : {0, 1})
+    for (const auto& [ts, ys] : {std::pair<double, double>{1, 1}, {1, 0.5}, {0.5, 1}})
+      for (int s1 : {1, -1})
+        for (int s2 : {1, -1}) {
+          std::ostringstream mix;
+          if (ts != ys) mix << "@" << ts << ":" << ys;
+          add(names[axis], s1, "yaw", s2, s1 * ts * t * units[axis], s2 * ys * rot, mix.str());
+        }
+}
 }  // namespace
 
 std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension,
                                     const std::vector<double>& multiples,
                                     const std::vector<double>& yaw_degrees,
-                                    const std::vector<TurnAxis>& turn_axes) {
+                                    const std::vector<TurnAxis>& turn_axes, bool oblique) {
   std::vector<SweepError> out;
   SweepError gt;
   gt.label = "ground truth";
@@ -79,6 +123,8 @@ std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimen
       e.label = s.str();
       out.push_back(e);
     }
+  if (oblique)
+    for (double k : multiples) addOblique(tol, dimension, k, &out);
   for (TurnAxis turn : turn_axes)
     for (double deg : yaw_degrees)
       if (deg >= tol.rotation_deg && (turn == TurnAxis::kYaw || dimension == 3))

@@ -6,9 +6,11 @@
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
 //       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)]
 //       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--turn_axes yaw,roll,pitch,tilted]
-//       [--rows all|even|odd] [--out FILE.csv]
+//       [--oblique] [--rows all|even|odd] [--out FILE.csv]
 // --turn_axes: the axes the fixed angles of --yaw_deg turn about (default yaw; roll, pitch and
 // tilted, about (1, 1, 1), need a 3D preset): "any rotation", not only yaw.
+// --oblique: also errors between the axes at each multiple (eval::sweepErrors): diagonals of two
+// translation axes, and a translation with yaw, each of size k tolerances.
 // --rows even|odd: only the pairs of even / odd index (tuning and held-out halves), every
 // --stride-th of those.
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
@@ -39,7 +41,8 @@ constexpr const char* kUsage =
     "usage: coral_error_sweep --config PRESET.yaml --data SPEC [--data SPEC ...] [--stride N] "
     "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] "
     "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] "
-    "[--turn_axes A1,A2,... (yaw, roll, pitch, tilted; default yaw)] [--rows all|even|odd] "
+    "[--turn_axes A1,A2,... (yaw, roll, pitch, tilted; default yaw)] [--oblique] "
+    "[--rows all|even|odd] "
     "[--out FILE.csv]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
@@ -53,7 +56,7 @@ int main(int argc, char** argv) {
   if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--data", "--stride", "--multiples", "--yaw_deg",
                             "--turn_axes", "--rows", "--out"},
-                           {}, &args, &err) ||
+                           {"--oblique"}, &args, &err) ||
       !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
   if (args.help) {
@@ -126,8 +129,9 @@ int main(int argc, char** argv) {
     opt.oxford.motion_compensation = node.online.deskew.enabled;
     eval::PairDataset d;
     if (!eval::loadPairDataset(spec, opt, nullptr, &d, &err)) return fail(err);
-    const std::vector<eval::SweepError> errors = eval::sweepErrors(
-        verdict.tolerance, node.online.coral.dimension, multiples, yaw_degrees, turn_axes);
+    const std::vector<eval::SweepError> errors =
+        eval::sweepErrors(verdict.tolerance, node.online.coral.dimension, multiples, yaw_degrees,
+                          turn_axes, args.flag("--oblique"));
     const std::size_t first = rows == "odd" ? 1 : 0, step = (rows == "all" ? 1 : 2) * stride;
     for (std::size_t i = first; i < d.pairs.size(); i += step) {
       const eval::ScanPair& p = d.pairs[i];

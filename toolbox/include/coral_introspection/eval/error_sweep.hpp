@@ -53,10 +53,19 @@ inline const std::vector<TurnAxis>& sweepTurnAxes() {
 // axis (both signs; 180 deg once). Fixed angles below the rotation tolerance are left out
 // (they are not errors at that tolerance). Turn axes other than yaw need dimension 3 (a 2D
 // scan has no roll or pitch): in 2D they are left out.
+// oblique: also, per multiple k, errors between the axes (axis_name "oblique"), each of size k
+// (coral::toleranceSize): k tolerances between two translation axes, at 45 deg ("x+y-2": both
+// components k t / sqrt(2)) and at 22.5 and 67.5 deg ("x+y-2@22.5"; x-y in 2D, also x-z and y-z
+// in 3D), and x or y with yaw, both at k tolerances ("x-yaw+1") or one of them at half
+// ("x-yaw+1@1:0.5", "@0.5:1"). A registration rarely errs along one axis, and the relative
+// check probes one axis at a time: a probe along x removes only part of such an error. The
+// shapes without a suffix were measured first; those with "@" tell whether a remedy chosen on
+// them holds for other mixes (doc/verdict_every_error.md "Errors between the axes").
 std::vector<SweepError> sweepErrors(const coral::ToleranceConfig& tol, int dimension,
                                     const std::vector<double>& multiples = sweepMultiples(),
                                     const std::vector<double>& yaw_degrees = sweepYawDegrees(),
-                                    const std::vector<TurnAxis>& turn_axes = sweepTurnAxes());
+                                    const std::vector<TurnAxis>& turn_axes = sweepTurnAxes(),
+                                    bool oblique = false);
 
 // One CSV line per judged error: the terms behind the verdict, `aligned` as method `both`
 // combines them (v: judged with kBoth, measure_gate_terms) and, last, `preset_aligned`: the
