@@ -47,15 +47,16 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
   if ((max_multiple < 2 && registration == nullptr) || !at_pose_probe.valid) return r;
   r.q = at_pose_probe.quality;
   // A probe with a lower Q than the lowest so far becomes the lowest.
-  auto consider = [&r](double q, const ToleranceOffset& step) {
+  auto consider = [&r](double q, const ToleranceOffset& step, bool registered) {
     if (!std::isfinite(q) || (r.valid && q >= r.lowest_q)) return;
     r.valid = true;
     r.lowest_q = q;
     r.lowest = step;
+    r.lowest_registered = registered;
   };
   const std::vector<ToleranceOffset> offsets = coarseOffsets(tol, dimension, max_multiple);
   const std::vector<double> q = neighbourQualities(pair, T_a_b, offsets);
-  for (std::size_t i = 0; i < q.size(); ++i) consider(q[i], offsets[i]);
+  for (std::size_t i = 0; i < q.size(); ++i) consider(q[i], offsets[i], false);
   if (registration == nullptr) return r;
   // A registration from the pose converges into the minimum of Q a few centimetres wide that
   // fixed steps miss unless they land on it (errors between the steps' sizes): the loop
@@ -76,7 +77,7 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
   name << std::setprecision(2) << "the pose registered from it (" << r.registered_size
        << " tolerances away)";
   step.name = name.str();
-  if (at.valid) consider(at.quality, step);
+  if (at.valid) consider(at.quality, step, true);
   return r;
 }
 

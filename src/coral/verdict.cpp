@@ -162,10 +162,16 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
       } else if (terms.coarse.valid && coarseProbeJudges(gate, classifier.probability) &&
                  terms.coarse.drop() > gate.coarse_margin) {
         out->aligned = false;
+        // A fixed step found a minimum past the CorAl radius; the registration also one in a
+        // valley of Q between the axes, which may lie within the radius
+        // (doc/verdict_every_error.md "Errors between the axes").
+        const bool registered = terms.coarse.lowest_registered;
         out->rejected_by = "gate: coarse probe: Q " + number(terms.coarse.drop()) +
                            " nats lower at " + terms.coarse.lowest.name +
-                           " (a minimum of Q past the CorAl radius: off by more than the "
-                           "tolerance)";
+                           (registered ? " (a lower minimum of Q nearby: off by the tolerance or "
+                                         "more)"
+                                       : " (a minimum of Q past the CorAl radius: off by more "
+                                         "than the tolerance)");
       } else if (classifier.probability < gate.min_probability) {
         out->aligned = false;
         out->rejected_by = "gate: " + p_words + " < " + number(gate.min_probability) +

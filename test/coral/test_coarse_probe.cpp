@@ -77,6 +77,8 @@ TEST(CoarseProbe, RejectsTwoTolerancesPastTheRadiusWithTheStepBack) {
     EXPECT_FALSE(v.relative.misaligned) << c.back;
     EXPECT_FALSE(v.aligned) << c.back;
     EXPECT_EQ(v.coarse.lowest.name, c.back);
+    EXPECT_FALSE(v.coarse.lowest_registered) << c.back;
+    EXPECT_NE(v.rejected_by.find("past the CorAl radius"), std::string::npos) << v.rejected_by;
     EXPECT_NEAR(toleranceSize(v.coarse.lowest.delta, ToleranceConfig::lidar2d()), 2.0, 1e-9);
     EXPECT_GT(v.coarse.drop(), 0.05);
     EXPECT_NE(v.rejected_by.find("gate: coarse probe"), std::string::npos) << v.rejected_by;
@@ -106,6 +108,9 @@ TEST(CoarseProbe, RegistrationFromThePoseCatchesAnErrorBetweenTheSteps) {
   const Eigen::Isometry3d back = T * v.coarse.lowest.delta;
   EXPECT_LT((back.translation() - p.T_a_b.translation()).norm(), 0.05);
   EXPECT_NE(v.rejected_by.find("registered from it"), std::string::npos) << v.rejected_by;
+  // Named as a lower minimum nearby, not as a step past the radius.
+  EXPECT_TRUE(v.coarse.lowest_registered);
+  EXPECT_NE(v.rejected_by.find("a lower minimum of Q nearby"), std::string::npos) << v.rejected_by;
   // A margin above the drop keeps the pose (the margin is what decides).
   VerdictConfig loose = gated(10, true);
   loose.gate.coarse_margin = v.coarse.drop() + 1e-9;

@@ -24,9 +24,10 @@ struct CoarseProbeResult {
   bool valid = false;  // probed: a Q at the pose and at least one valid probe
   double q = std::numeric_limits<double>::quiet_NaN();         // Q at the pose (probe queries)
   double lowest_q = std::numeric_limits<double>::quiet_NaN();  // lowest Q among the probes
-  ToleranceOffset lowest;        // that probe's step (delta in b's frame; name "x+ x2", ...)
-  bool registered = false;       // a registration from the pose gave a pose (when asked)
-  double registered_size = 0.0;  // its distance from the pose [tolerances] (toleranceSize)
+  ToleranceOffset lowest;          // that probe's step (delta in b's frame; name "x+ x2", ...)
+  bool lowest_registered = false;  // that probe is the registered pose, not a fixed step
+  bool registered = false;         // a registration from the pose gave a pose (when asked)
+  double registered_size = 0.0;    // its distance from the pose [tolerances] (toleranceSize)
   // How much lower Q is at the lowest probe than at the pose [nats] (> 0: lower away).
   double drop() const { return valid ? q - lowest_q : 0.0; }
 };
