@@ -42,7 +42,8 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
 CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                               const CoralResult& at_pose_probe, int dimension,
                               const ToleranceConfig& tol, int max_multiple,
-                              const RegistrationConfig* registration) {
+                              const RegistrationConfig* registration,
+                              double min_registered_offset) {
   CoarseProbeResult r;
   if ((max_multiple < 2 && registration == nullptr) || !at_pose_probe.valid) return r;
   r.q = at_pose_probe.quality;
@@ -69,7 +70,8 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
                        [](const Eigen::Isometry3d&) { return true; });
   r.registered = reg.usable;
   r.registered_size = reg.size;
-  if (!r.registered || r.registered_size < 1.0) return r;  // within the tolerance: no other pose
+  // Closer: the registration found the pose's own minimum (within what it resolves).
+  if (!r.registered || r.registered_size < min_registered_offset) return r;
   const CoralResult at = pair.evaluateProbe(reg.T_a_b);
   ToleranceOffset step;
   step.delta = T_a_b.inverse() * reg.T_a_b;

@@ -52,6 +52,9 @@ std::string GateConfig::validate() const {
                "coarse_max_multiple", "0 (off) or in [2, 16] tolerances", coarse_max_multiple)
       .require(coarse_margin >= 0.0 && std::isfinite(coarse_margin), "coarse_margin", ">= 0 nats",
                coarse_margin)
+      .require(coarse_min_registered_offset >= 0.5 && coarse_min_registered_offset <= 2.0,
+               "coarse_min_registered_offset", "in [0.5, 2] tolerances",
+               coarse_min_registered_offset)
       .require(coarse_below_probability > min_probability && coarse_below_probability <= 1.0,
                "coarse_below_probability", "in (min_probability, 1], 1 = every pose",
                coarse_below_probability)
@@ -252,7 +255,8 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
        cfg.measure_gate_terms))
     v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
                            cfg.gate.coarse_max_multiple,
-                           cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr);
+                           cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr,
+                           cfg.gate.coarse_min_registered_offset);
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }

@@ -74,6 +74,7 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("gate/coarse_margin", &o.verdict.gate.coarse_margin) &&
       r.get("gate/coarse_below_probability", &o.verdict.gate.coarse_below_probability) &&
       r.get("gate/coarse_registration", &o.verdict.gate.coarse_registration) &&
+      r.get("gate/coarse_min_registered_offset", &o.verdict.gate.coarse_min_registered_offset) &&
       r.get("loop_closure/min_probability", &o.verdict.loop_closure.min_probability) &&
       r.get("loop_closure/min_overlap", &o.verdict.loop_closure.min_overlap) &&
       r.get("loop_closure/relative_margin", &o.verdict.loop_closure.relative_margin) &&
@@ -88,6 +89,8 @@ bool readAll(config::ParamTree& r, NodeConfig* c) {
       r.get("loop_closure/coarse_below_probability",
             &o.verdict.loop_closure.coarse_below_probability) &&
       r.get("loop_closure/coarse_registration", &o.verdict.loop_closure.coarse_registration) &&
+      r.get("loop_closure/coarse_min_registered_offset",
+            &o.verdict.loop_closure.coarse_min_registered_offset) &&
       r.get("loop_closure/max_refinement", &o.verdict.loop_closure.max_refinement) &&
       r.get("loop_closure/restarts", &o.verdict.loop_closure.restarts) &&
       r.get("loop_closure/max_registered_offset", &o.verdict.loop_closure.max_registered_offset) &&

@@ -170,3 +170,44 @@ TEST(CoarseProbe, ConfigOutOfRangeIsRefusedAndNamed) {
   v.gate.coarse_below_probability = 0.05;
   EXPECT_EQ(v.validate(), "");
 }
+
+// coarse_min_registered_offset: a registration measures an error to a fraction of the
+// tolerance (Livox pairs moved by one tolerance come back 0.8-1.1 tolerances away). An error
+// of exactly one tolerance between x and y with half the rotation tolerance passes the
+// relative check on the yard pair, and the registration brings it back 0.9999 tolerances: with
+// the bound at 1 that pose is not probed and the error is accepted; at 0.8 it is probed and
+// rejected. The truth, which the registration leaves within a fraction of the tolerance, stays
+// accepted.
+TEST(CoarseProbe, RegisteredPoseProbedFromItsBound) {
+  const YardPair p = yardPair(1);
+  const CoralConfig coral = planarYardCoral();
+  const double deg = 55.0 * M_PI / 180.0;
+  const Eigen::Isometry3d delta = se2(0.3 * std::cos(deg), 0.3 * std::sin(deg), 2.5 * M_PI / 180);
+  ASSERT_NEAR(toleranceSize(delta, ToleranceConfig::lidar2d()), 1.0, 1e-9);
+  const Eigen::Isometry3d T = p.T_a_b * delta;
+  const VerdictConfig at_one = gated(0, true);
+  ASSERT_EQ(at_one.gate.coarse_min_registered_offset, 1.0);  // the default
+  const AlignmentVerdict one = judgeAlignment(p.a, p.b, T, coral, at_one);
+  ASSERT_TRUE(one.valid);
+  EXPECT_FALSE(one.relative.misaligned);
+  ASSERT_TRUE(one.coarse.registered);
+  EXPECT_GT(one.coarse.registered_size, 0.95);
+  EXPECT_LT(one.coarse.registered_size, 1.0);
+  EXPECT_FALSE(one.coarse.lowest_registered);
+  EXPECT_TRUE(one.aligned) << "the gap the bound closes: " << one.rejected_by;
+  VerdictConfig below = gated(0, true);
+  below.gate.coarse_min_registered_offset = 0.8;
+  const AlignmentVerdict v = judgeAlignment(p.a, p.b, T, coral, below);
+  ASSERT_TRUE(v.valid);
+  EXPECT_FALSE(v.aligned);
+  EXPECT_TRUE(v.coarse.lowest_registered);
+  EXPECT_GT(v.coarse.drop(), 0.5);
+  EXPECT_NE(v.rejected_by.find("registered from it"), std::string::npos) << v.rejected_by;
+  const AlignmentVerdict gt = judgeAlignment(p.a, p.b, p.T_a_b, coral, below);
+  EXPECT_TRUE(gt.valid && gt.aligned) << gt.rejected_by;
+  EXPECT_LT(gt.coarse.registered_size, 0.5);
+  for (double bad : {0.4, 2.5, std::nan("")}) {
+    below.loop_closure.coarse_min_registered_offset = bad;
+    EXPECT_NE(below.validate().find("coarse_min_registered_offset"), std::string::npos) << bad;
+  }
+}

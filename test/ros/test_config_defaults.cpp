@@ -191,6 +191,8 @@ std::string describe(const NodeConfig& c) {
     << "\ngate.coarse_margin = " << c.online.verdict.gate.coarse_margin
     << "\ngate.coarse_below_probability = " << c.online.verdict.gate.coarse_below_probability
     << "\ngate.coarse_registration = " << c.online.verdict.gate.coarse_registration
+    << "\ngate.coarse_min_registered_offset = "
+    << c.online.verdict.gate.coarse_min_registered_offset
     << "\nloop_closure.min_probability = " << c.online.verdict.loop_closure.min_probability
     << "\nloop_closure.min_overlap = " << c.online.verdict.loop_closure.min_overlap
     << "\nloop_closure.relative_margin = " << c.online.verdict.loop_closure.relative_margin
@@ -205,6 +207,8 @@ std::string describe(const NodeConfig& c) {
     << "\nloop_closure.coarse_below_probability = "
     << c.online.verdict.loop_closure.coarse_below_probability
     << "\nloop_closure.coarse_registration = " << c.online.verdict.loop_closure.coarse_registration
+    << "\nloop_closure.coarse_min_registered_offset = "
+    << c.online.verdict.loop_closure.coarse_min_registered_offset
     << "\nloop_closure.max_refinement = " << c.online.verdict.loop_closure.max_refinement
     << "\nloop_closure.restarts = " << c.online.verdict.loop_closure.restarts
     << "\nloop_closure.max_registered_offset = "

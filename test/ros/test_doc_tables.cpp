@@ -74,7 +74,11 @@ const std::vector<Row>& rows() {
       {"coarse probe (`coarse_max_multiple`)",
        [](const Column& c) {
          std::string s = c.gate.coarse_max_multiple > 0 ? num(c.gate.coarse_max_multiple) : "";
-         if (c.gate.coarse_registration) s += s.empty() ? "registration" : ", registration";
+         if (c.gate.coarse_registration) {
+           s += s.empty() ? "registration" : ", registration";
+           if (c.gate.coarse_min_registered_offset != 1.0)  // the default: not named
+             s += " from " + num(c.gate.coarse_min_registered_offset);
+         }
          if (c.gate.coarse_below_probability < 1)
            s += (s.empty() ? "p < " : ", p < ") + num(c.gate.coarse_below_probability);
          return s;

@@ -313,16 +313,32 @@ void loadAcesLoops(const std::string& aces_dir, AcesLoops* out) {
   out->loop.verdict = loopClosureVerdict(out->node.online.verdict);
 }
 
-// `coral_check --config lidar_2d.yaml --loop_closure` on relation c's scans at pose T.
-CheckRun checkLoop(const CarmenLoopSet& set, const LoopCandidate& c, const Eigen::Isometry3d& T) {
+// `coral_check --config lidar_2d.yaml --loop_closure` on relation c's scans at pose T (or with
+// the preset at `config`).
+CheckRun checkLoop(const CarmenLoopSet& set, const LoopCandidate& c, const Eigen::Isometry3d& T,
+                   const std::string& config = coral_test::sourceDir() + "/config/lidar_2d.yaml") {
   const std::string a = tempPath("cc_loop_a", ".pcd"), b = tempPath("cc_loop_b", ".pcd"),
                     t = tempPath("cc_loop_t", ".txt");
   writePcd(a, set.rel_scans[c.a].scan.points);
   writePcd(b, set.rel_scans[c.b].scan.points);
   writeMatrix(t, T);
-  return runCheck("--config " + coral_test::sourceDir() +
-                  "/config/lidar_2d.yaml --loop_closure --a " + a + " --b " + b +
+  return runCheck("--config " + config + " --loop_closure --a " + a + " --b " + b +
                   " --transform_file " + t);
+}
+
+// A copy of lidar_2d.yaml whose loop gate does not register from the pose
+// (loop_closure/coarse_registration false): the gate the restart check was the last term of
+// before 2026-12-07. Empty when the preset has no such line.
+std::string lidar2dWithoutLoopRegistration() {
+  std::string text = coral_test::readWholeFile(coral_test::sourceDir() + "/config/lidar_2d.yaml");
+  const std::size_t loop = text.find("\nloop_closure:");
+  const std::string key = "\n  coarse_registration: true";
+  const std::size_t at = loop == std::string::npos ? loop : text.find(key, loop);
+  if (at == std::string::npos) return "";
+  text.replace(at, key.size(), "\n  coarse_registration: false");
+  const std::string path = tempPath("lidar_2d_no_loop_registration", ".yaml");
+  std::ofstream(path) << text;
+  return path;
 }
 
 // The JSON line's "refined_transform" (12 numbers, 3x4 row-major); false when absent.
@@ -347,16 +363,17 @@ struct MovedRelation {
   Eigen::Isometry3d off = Eigen::Isometry3d::Identity();
   AlignmentVerdict in_process;
 };
-MovedRelation findMovedRelation(const AcesLoops& aces,
-                                const std::vector<Eigen::Isometry3d>& offsets,
-                                const std::function<bool(const AlignmentVerdict&)>& wanted) {
+MovedRelation findMovedRelation(
+    const AcesLoops& aces, const std::vector<Eigen::Isometry3d>& offsets,
+    const std::function<bool(const AlignmentVerdict&)>& wanted,
+    const coral_introspection::online::IntrospectorConfig* loop = nullptr) {
   MovedRelation m;
   for (const LoopCandidate& c : aces.set.revisits) {
     if (c.source != "relation") continue;
     for (const Eigen::Isometry3d& d : offsets) {
-      m.in_process = coral_introspection::online::judgePair(aces.set.rel_scans[c.a].scan,
-                                                            aces.set.rel_scans[c.b].scan,
-                                                            c.T_a_b * d, aces.loop, false)
+      m.in_process = coral_introspection::online::judgePair(
+                         aces.set.rel_scans[c.a].scan, aces.set.rel_scans[c.b].scan, c.T_a_b * d,
+                         loop ? *loop : aces.loop, false)
                          .verdict;
       if (wanted(m.in_process)) {
         m.relation = &c;
@@ -370,9 +387,11 @@ MovedRelation findMovedRelation(const AcesLoops& aces,
 
 // `coral_check --config lidar_2d.yaml --loop_closure` on the moved relation m (`what` names it
 // when there is none): a JSON line with status 0.
-void checkMoved(const AcesLoops& aces, const MovedRelation& m, const char* what, CheckRun* r) {
+void checkMoved(const AcesLoops& aces, const MovedRelation& m, const char* what, CheckRun* r,
+                const std::string& config = "") {
   ASSERT_NE(m.relation, nullptr) << "no ACES relation " << what;
-  *r = checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off);
+  *r = config.empty() ? checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off)
+                      : checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off, config);
   ASSERT_EQ(r->status, 0) << r->err;
 }
 
@@ -447,21 +466,35 @@ TEST(CoralCheckLoopClosure, AcesRelationLeftShortIsAcceptedWhenItRegistersBackWi
 // other starts found a better pose (coral/restart_check.hpp). `coral_check --loop_closure`
 // must reject it the same way ("restarts:" in rejected_by) and, when the better pose is
 // offered, give that pose: the in-process one, closer to the relation than the given pose.
+// Since 2026-12-07 the preset's registration from the pose (loop_closure/coarse_registration)
+// rejects that relation before the restart check runs: the restart check is driven with a
+// copy of the preset without it, and the preset itself rejects it by the registered pose.
 TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestartCheck) {
   CORAL_REQUIRE_DATA("radish_aces");
   AcesLoops aces;
   ASSERT_NO_FATAL_FAILURE(loadAcesLoops(coral_data, &aces));
   ASSERT_TRUE(aces.node.online.verdict.loop_closure.restarts);
+  ASSERT_TRUE(aces.node.online.verdict.loop_closure.coarse_registration);
+  const std::string config = lidar2dWithoutLoopRegistration();
+  ASSERT_FALSE(config.empty()) << "lidar_2d.yaml has no loop_closure/coarse_registration: true";
+  coral_introspection::online::IntrospectorConfig without = aces.loop;
+  without.verdict.gate.coarse_registration = false;
   const double two_tol = 2.0 * aces.node.online.verdict.tolerance.translation;
   // Chosen by the code under test (test_loop_closure counts 1 such relation of 220 x 4 moves).
-  const MovedRelation m =
-      findMovedRelation(aces,
-                        {se2(two_tol, 0.0, 0.0), se2(-two_tol, 0.0, 0.0), se2(0.0, two_tol, 0.0),
-                         se2(0.0, -two_tol, 0.0)},
-                        [](const AlignmentVerdict& v) { return v.restart.better_elsewhere; });
+  const MovedRelation m = findMovedRelation(
+      aces,
+      {se2(two_tol, 0.0, 0.0), se2(-two_tol, 0.0, 0.0), se2(0.0, two_tol, 0.0),
+       se2(0.0, -two_tol, 0.0)},
+      [](const AlignmentVerdict& v) { return v.restart.better_elsewhere; }, &without);
+  CheckRun preset;
+  ASSERT_NO_FATAL_FAILURE(
+      checkMoved(aces, m, "moved 2 tolerances that the restart check rejects", &preset));
+  EXPECT_EQ(field(preset.out, "aligned"), "false") << preset.out;
+  EXPECT_NE(field(preset.out, "rejected_by").find("registered from it"), std::string::npos)
+      << preset.out;
   CheckRun r;
   ASSERT_NO_FATAL_FAILURE(
-      checkMoved(aces, m, "moved 2 tolerances that the restart check rejects", &r));
+      checkMoved(aces, m, "moved 2 tolerances that the restart check rejects", &r, config));
   EXPECT_FALSE(m.in_process.aligned);
   EXPECT_EQ(field(r.out, "aligned"), "false") << r.out;
   EXPECT_NE(field(r.out, "rejected_by").find("restarts:"), std::string::npos) << r.out;

@@ -58,6 +58,50 @@ TEST(ErrorSweepTool, PresetAlignedIsWhatTheSummaryCounts) {
   EXPECT_GT(differ, 0);
 }
 
+// --loop_closure: every pose judged as a loop-closure candidate (the preset's loop gate, its
+// registration from the pose and restart check included), so `aligned` and `preset_aligned` are
+// the same verdict. On every 40th ACES relation the loop gate and the stream gate disagree on
+// some rows (measured: a ground truth the loop gate's constraint bound rejects, a one-tolerance
+// error it accepts), and no error of 2 tolerances or more is accepted: before lidar_2d's
+// loop_closure/coarse_registration (2026-12-07), two were (yaw-2 on 480, x+2 on 960).
+TEST(ErrorSweepTool, LoopClosureSweepsTheLoopVerdict) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  const std::string args = "--config " + coral_test::sourceDir() +
+                           "/config/lidar_2d.yaml --data carmen:" + coral_data +
+                           "/aces.clf.bz2 --stride 40 --out ";
+  std::vector<std::vector<std::string>> rows[2];  // stream, loop
+  std::map<std::string, std::size_t> col;
+  for (int loop = 0; loop < 2; ++loop) {
+    const std::string csv = coral_test::tempPath("error_sweep_loop", ".csv");
+    const coral_test::ToolRun r =
+        coral_test::runTool(CORAL_ERROR_SWEEP_EXE, args + csv + (loop ? " --loop_closure" : ""));
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream lines(coral_test::readWholeFile(csv));
+    std::remove(csv.c_str());
+    std::string line;
+    ASSERT_TRUE(std::getline(lines, line));
+    const std::vector<std::string> head = splitFields(line, ',');
+    for (std::size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
+    while (std::getline(lines, line)) rows[loop].push_back(splitFields(line, ','));
+  }
+  ASSERT_EQ(rows[0].size(), 32u * 34u);
+  ASSERT_EQ(rows[1].size(), rows[0].size());
+  int differ = 0, large_accepted = 0, errors_large = 0;
+  for (std::size_t i = 0; i < rows[1].size(); ++i) {
+    const std::vector<std::string>& f = rows[1][i];
+    ASSERT_EQ(f.size(), col.size());
+    ASSERT_EQ(f[col["error"]], rows[0][i][col["error"]]);  // the same rows, in the same order
+    EXPECT_EQ(f[col["aligned"]], f.back()) << "row " << i << ": the loop verdict's own column";
+    differ += f.back() != rows[0][i].back();
+    if (f[col["ground_truth"]] == "1" || std::stod(f[col["multiple"]]) < 2.0) continue;
+    ++errors_large;
+    large_accepted += f.back() == "1";
+  }
+  EXPECT_GE(differ, 1) << "--loop_closure judged as the stream";
+  EXPECT_GT(errors_large, 32 * 12);
+  EXPECT_EQ(large_accepted, 0) << "errors of 2 tolerances or more accepted as loop closures";
+}
+
 // --turn_axes: names other than yaw, roll, pitch, tilted (an empty field too), and roll / pitch /
 // tilted with a 2D preset (whose scans have no roll) are refused with a message and exit 2, not
 // swept as yaw.

@@ -654,6 +654,56 @@ TEST(PresetVerdicts, EveryErrorSizeLidar3dBetweenTheAxes) {
   EXPECT_GE(accepted_without, stride() > 1 ? 1 : 10);
 }
 
+// Errors of exactly one tolerance between the axes, where the registration from the pose
+// measures the error to about +-0.15 tolerances: with gate/ (and loop_closure/)
+// coarse_min_registered_offset at 1 the registered pose was probed only when it came back a full
+// tolerance away, half of the time. lidar_3d probes it from 0.8 (stream) and 0.9 (loop gate).
+// On Livox pairs where that decided (coral_error_sweep --oblique --multiples 1, with and
+// without --loop_closure, 2026-12-07), the 60 shapes of one tolerance: the preset accepts fewer
+// than with the bound at 1, and few at all.
+TEST(PresetVerdicts, OneToleranceBetweenTheAxesLidar3d) {
+  CORAL_REQUIRE_DATA("hku1_livox_keyframes");
+  ros_adapters::NodeConfig node;
+  eval::PairDataset d;
+  ASSERT_TRUE(loadPresetData("lidar_3d", "keyframes:" + coral_data, &node, &d));
+  std::vector<eval::SweepError> errors;
+  for (const eval::SweepError& e :
+       eval::sweepErrors(node.online.verdict.tolerance, 3, {1.0}, {}, {}, true))
+    if (e.axis_name == "oblique") errors.push_back(e);
+  ASSERT_EQ(errors.size(), 60u);
+  for (const bool loop : {false, true}) {
+    online::IntrospectorConfig preset = node.online;
+    if (loop) preset.verdict = coral::loopClosureVerdict(node.online.verdict);
+    ASSERT_TRUE(preset.verdict.gate.coarse_registration);
+    ASSERT_LT(preset.verdict.gate.coarse_min_registered_offset, 1.0);
+    online::IntrospectorConfig at_one = preset;
+    at_one.verdict.gate.coarse_min_registered_offset = 1.0;
+    const std::vector<std::size_t> pairs = loop ? std::vector<std::size_t>{48, 192, 208, 240}
+                                                : std::vector<std::size_t>{12, 68, 84, 168};
+    int accepted = 0, accepted_at_one = 0, judged = 0;
+    for (std::size_t k = 0; k < (stride() > 1 ? 1 : pairs.size()); ++k) {
+      ASSERT_LT(pairs[k], d.pairs.size());
+      const eval::ScanPair& p = d.pairs[pairs[k]];
+      for (const eval::SweepError& e : errors) {
+        ++judged;
+        for (const bool with : {true, false}) {
+          const coral::AlignmentVerdict v =
+              online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan, p.T_a_b * e.delta,
+                                with ? preset : at_one, false)
+                  .verdict;
+          if (v.valid && v.aligned) (with ? accepted : accepted_at_one) += 1;
+        }
+      }
+    }
+    std::cout << "lidar_3d " << (loop ? "loop" : "stream")
+              << " verdict, one tolerance between the axes: accepted " << accepted << " / "
+              << judged << " (bound at 1: " << accepted_at_one << ")\n";
+    if (stride() > 1) continue;
+    EXPECT_LE(accepted * 40, judged);  // <= 2.5 %
+    EXPECT_GE(accepted_at_one, accepted + 8);
+  }
+}
+
 // 64-beam automotive scans (Velodyne HDL-64 of the View-of-Delft frames), which no shared pair
 // is: each frame split into two scans at the identity, swept with the stream verdict and the
 // loop verdict of lidar_3d. Not a real pair (one sweep, no motion), but every error is an error

@@ -6,11 +6,14 @@
 //   rosrun coral_introspection coral_error_sweep --config PRESET.yaml --data SPEC [--data ...]
 //       [--stride N] [--multiples K1,K2,... (default 1,2,4,8)]
 //       [--yaw_deg D1,D2,... (default 5,15,45,90,180)] [--turn_axes yaw,roll,pitch,tilted]
-//       [--oblique] [--rows all|even|odd] [--out FILE.csv]
+//       [--oblique] [--loop_closure] [--rows all|even|odd] [--out FILE.csv]
 // --turn_axes: the axes the fixed angles of --yaw_deg turn about (default yaw; roll, pitch and
 // tilted, about (1, 1, 1), need a 3D preset): "any rotation", not only yaw.
 // --oblique: also errors between the axes at each multiple (eval::sweepErrors): diagonals of two
 // translation axes, and a translation with yaw, each of size k tolerances.
+// --loop_closure: judge every pose as a loop-closure candidate (coral_check --loop_closure: the
+// preset's loop_closure/ gate with its restart check and registration from the pose). The CSV's
+// terms and `aligned` are then that verdict's own (method gated), not method both's.
 // --rows even|odd: only the pairs of even / odd index (tuning and held-out halves), every
 // --stride-th of those.
 // SPEC as coral_train: oxford:DIR, keyframes:DIR, carmen:FILE.clf.bz2, cloudlist:FILE.
@@ -42,7 +45,7 @@ constexpr const char* kUsage =
     "[--multiples K1,K2,... (tolerances, >= 1; default 1,2,4,8)] "
     "[--yaw_deg D1,D2,... (deg, (0, 180]; default 5,15,45,90,180)] "
     "[--turn_axes A1,A2,... (yaw, roll, pitch, tilted; default yaw)] [--oblique] "
-    "[--rows all|even|odd] "
+    "[--loop_closure] [--rows all|even|odd] "
     "[--out FILE.csv]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_error_sweep", msg, kUsage); }
@@ -56,7 +59,7 @@ int main(int argc, char** argv) {
   if (!eval::parseToolArgs(argc, argv,
                            {"--config", "--data", "--stride", "--multiples", "--yaw_deg",
                             "--turn_axes", "--rows", "--out"},
-                           {"--oblique"}, &args, &err) ||
+                           {"--oblique", "--loop_closure"}, &args, &err) ||
       !eval::positiveInt(args, "--stride", 1, &stride, &err))
     return fail(err);
   if (args.help) {
@@ -108,9 +111,16 @@ int main(int argc, char** argv) {
   // Every term of the verdict (classifier and relative check) in the CSV, `aligned` as method
   // both combines them; the summary and the CSV's last column (preset_aligned) count the
   // preset's own method and gate, combined from the same terms.
+  // A loop-closure sweep judges with the loop verdict itself: its restart check and
+  // registration from the pose are not terms combineVerdict could add afterwards.
+  const bool loop_closure = args.flag("--loop_closure");
   online::IntrospectorConfig judge_cfg = node.online;
-  judge_cfg.verdict.method = coral::VerdictMethod::kBoth;
-  judge_cfg.verdict.measure_gate_terms = true;  // free space and constraint in the CSV too
+  if (loop_closure) {
+    judge_cfg.verdict = coral::loopClosureVerdict(verdict);
+  } else {
+    judge_cfg.verdict.method = coral::VerdictMethod::kBoth;
+    judge_cfg.verdict.measure_gate_terms = true;  // free space and constraint in the CSV too
+  }
   std::ofstream file;
   if (!out_path.empty()) {
     file.open(out_path);
@@ -139,7 +149,7 @@ int main(int argc, char** argv) {
         const online::PairJudgement j = online::judgePair(d.scans[p.a].scan, d.scans[p.b].scan,
                                                           p.T_a_b * e.delta, judge_cfg, false);
         coral::AlignmentVerdict v = j.verdict;
-        if (v.coral.valid)
+        if (v.coral.valid && !loop_closure)
           coral::combineVerdict(verdict.method, v.classifier, v.relative, verdict.relative, &v,
                                 verdict.gate, coral::gateTerms(v));
         const bool accepted = v.valid && v.aligned;  // no verdict = not accepted
