@@ -42,8 +42,7 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
 CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                               const CoralResult& at_pose_probe, int dimension,
                               const ToleranceConfig& tol, int max_multiple,
-                              const RegistrationConfig* registration,
-                              double min_registered_offset) {
+                              const LazySurfaceTarget* registration, double min_registered_offset) {
   CoarseProbeResult r;
   if ((max_multiple < 2 && registration == nullptr) || !at_pose_probe.valid) return r;
   r.q = at_pose_probe.quality;
@@ -64,10 +63,10 @@ CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_
   // gate's registration from the pose, without a bound and without judging there.
   // (Unbounded, so never screened: only the registration config of the RestartConfig is used.)
   RestartConfig restart;
-  restart.registration = *registration;
-  const NearbyAlignment reg =
-      registeredNearby(pair, T_a_b, tol, restart, std::numeric_limits<double>::infinity(),
-                       [](const Eigen::Isometry3d&) { return true; });
+  restart.registration = registration->config();
+  const NearbyAlignment reg = registeredNearby(
+      pair, T_a_b, tol, restart, std::numeric_limits<double>::infinity(),
+      [](const Eigen::Isometry3d&) { return true; }, &registration->get());
   r.registered = reg.usable;
   r.registered_size = reg.size;
   // Closer: the registration found the pose's own minimum (within what it resolves).

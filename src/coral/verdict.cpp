@@ -224,8 +224,13 @@ AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isome
 
 namespace {
 // The verdict at one pose, no refinement.
+// `target`: a's registration target shared by the checks of one verdict (else built here when
+// the coarse probe registers). `registered`: T_a_b is where a registration of this pair ended
+// (the restart check's, the registration from a rejected candidate's pose): the coarse probe
+// does not register from it again (it would end where it starts; 12-20 ms on a 64-beam pair).
 AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
-                             const VerdictConfig& cfg) {
+                             const VerdictConfig& cfg, const LazySurfaceTarget* target = nullptr,
+                             bool registered = false) {
   AlignmentVerdict v;
   // One prepared pair for every pose: the relative check's Q values and the Q at the pose
   // come from the same filtered points and queries (coral_pair.hpp).
@@ -252,11 +257,15 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   // for neither.
   if (rel_needed &&
       ((!v.relative.misaligned && coarseProbeJudges(cfg.gate, v.classifier.probability)) ||
-       cfg.measure_gate_terms))
+       cfg.measure_gate_terms)) {
+    const LazySurfaceTarget own(pair.points(0), coral, cfg.restart.registration);
+    const LazySurfaceTarget* registration = !cfg.gate.coarse_registration || registered ? nullptr
+                                            : target                                    ? target
+                                                                                        : &own;
     v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
-                           cfg.gate.coarse_max_multiple,
-                           cfg.gate.coarse_registration ? &cfg.restart.registration : nullptr,
+                           cfg.gate.coarse_max_multiple, registration,
                            cfg.gate.coarse_min_registered_offset);
+  }
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
   return v;
 }
@@ -280,17 +289,20 @@ void setRefinement(const Eigen::Isometry3d& T_a_b, const Eigen::Isometry3d& T, d
 // Gate `restarts` on verdict v, accepted at T_a_b: registered again from other starts
 // (restart_check.hpp); a better alignment elsewhere rejects v and is offered when the
 // classifier says aligned there too (refinedPoseAccepted), as a refined pose is.
-// `target`: b's registration target when the caller has built one (restart_check.hpp).
+// `target`: a's registration target, shared with the other checks of this verdict.
 void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
-                   AlignmentVerdict* v, const SurfaceTarget* target = nullptr) {
+                   AlignmentVerdict* v, const LazySurfaceTarget& target) {
   v->restart = betterAlignmentElsewhere(
       pair, T_a_b, judgedPose(*v), cfg.tolerance, cfg.restart,
-      [&](const Eigen::Isometry3d& T) { return judgedPose(judgeAtPose(pair, T, cfg)); }, target);
+      [&](const Eigen::Isometry3d& T) {
+        return judgedPose(judgeAtPose(pair, T, cfg, &target, true));
+      },
+      &target.get());
   const RestartResult& r = v->restart;
   if (!r.better_elsewhere) return;
   // Judged again at the pose the check chose (rarely: only when it rejects) rather than
   // mirroring its choice in the judge above.
-  const AlignmentVerdict best = judgeAtPose(pair, r.T_a_b, cfg);
+  const AlignmentVerdict best = judgeAtPose(pair, r.T_a_b, cfg, &target, true);
   v->aligned = false;
   // The local terms still say aligned; at most 0.5 so that the probability does not read
   // as a confident "aligned" for a rejected candidate.
@@ -311,19 +323,16 @@ void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const 
 // the verdict (restart check included) with the classifier's p at least
 // registered_min_probability there: v is then "aligned" with that pose offered.
 bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const VerdictConfig& cfg,
-                  AlignmentVerdict* v) {
+                  AlignmentVerdict* v, const LazySurfaceTarget& target) {
   AlignmentVerdict w;
-  // One target for the registration from the pose and the restart check's (a 64-beam scan's:
-  // ~13 ms to build).
-  const SurfaceTarget target(pair.points(0), pair.config(), cfg.restart.registration);
   v->nearby = registeredNearby(
       pair, T_a_b, cfg.tolerance, cfg.restart, cfg.gate.max_registered_offset,
       [&](const Eigen::Isometry3d& T) {
-        w = judgeAtPose(pair, T, cfg);
-        if (cfg.gate.restarts && w.valid && w.aligned) checkRestarts(pair, T, cfg, &w, &target);
+        w = judgeAtPose(pair, T, cfg, &target, true);
+        if (cfg.gate.restarts && w.valid && w.aligned) checkRestarts(pair, T, cfg, &w, target);
         return registeredPoseAccepted(w, cfg.gate);
       },
-      &target);
+      &target.get());
   const NearbyAlignment& n = v->nearby;
   if (!n.accepted) return false;
   v->aligned = v->refined = true;
@@ -336,13 +345,15 @@ bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const V
 
 AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                                 const VerdictConfig& cfg) {
-  AlignmentVerdict v = judgeAtPose(pair, T_a_b, cfg);
+  // One registration target for every check below that registers (built when first needed).
+  const LazySurfaceTarget target(pair.points(0), pair.config(), cfg.restart.registration);
+  AlignmentVerdict v = judgeAtPose(pair, T_a_b, cfg, &target);
   if (cfg.method == VerdictMethod::kGated && cfg.gate.restarts && v.valid && v.aligned) {
-    checkRestarts(pair, T_a_b, cfg, &v);
+    checkRestarts(pair, T_a_b, cfg, &v, target);
     return v;
   }
   if (!gatedRejection(v, cfg)) return v;
-  if (cfg.gate.max_registered_offset > 0.0 && acceptNearby(pair, T_a_b, cfg, &v)) return v;
+  if (cfg.gate.max_registered_offset > 0.0 && acceptNearby(pair, T_a_b, cfg, &v, target)) return v;
   if (!(cfg.gate.max_refinement > 0.0)) return v;
   v.refinement =
       refinePose(pair, T_a_b, pair.config().dimension, cfg.tolerance, cfg.gate.max_refinement);
@@ -351,7 +362,7 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   // aligned because a better one lies nearby. The refined pose is offered with its own
   // verdict (doc/loop_closure.md: accepting it in place of the given pose also accepted
   // relations moved by 1-2 tolerances onto other minima of Q that look aligned).
-  const AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg);
+  const AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg, &target);
   v.refined = refinedPoseAccepted(w);
   std::string why = w.valid ? w.rejected_by : w.reason;
   if (why.empty())  // passed the gate, not the classifier's own threshold
