@@ -16,30 +16,45 @@ namespace {
 
 using coral_introspection::config::splitFields;
 
-TEST(ErrorSweepTool, PresetAlignedIsWhatTheSummaryCounts) {
-  CORAL_REQUIRE_DATA("radish_aces");
+// coral_error_sweep under lidar_2d on every 40th ACES relation (32 pairs x 34 poses, a few
+// seconds) with `extra` options: its CSV (header columns by name, rows of fields) and its run.
+struct SweepCsv {
+  coral_test::ToolRun run;
+  std::map<std::string, std::size_t> col;
+  std::vector<std::string> head;
+  std::vector<std::vector<std::string>> rows;
+};
+void sweepAces(const std::string& extra, SweepCsv* out) {
   const std::string csv = coral_test::tempPath("error_sweep", ".csv");
-  // Every 40th ACES relation (32 pairs x 34 poses, a few seconds).
-  const coral_test::ToolRun r = coral_test::runTool(
+  out->run = coral_test::runTool(
       CORAL_ERROR_SWEEP_EXE, "--config " + coral_test::sourceDir() +
-                                 "/config/lidar_2d.yaml --data carmen:" + coral_data +
-                                 "/aces.clf.bz2 --stride 40 --out " + csv);
-  ASSERT_EQ(r.status, 0) << r.err;
+                                 "/config/lidar_2d.yaml --data carmen:" + coral_test::dataDir() +
+                                 "/radish_aces/aces.clf.bz2 --stride 40 --out " + csv + extra);
+  ASSERT_EQ(out->run.status, 0) << out->run.err;
   std::istringstream lines(coral_test::readWholeFile(csv));
   std::remove(csv.c_str());
   std::string line;
   ASSERT_TRUE(std::getline(lines, line));
-  const std::vector<std::string> head = splitFields(line, ',');
-  std::map<std::string, std::size_t> col;
-  for (std::size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
-  ASSERT_EQ(head.back(), "preset_aligned");
+  out->head = splitFields(line, ',');
+  for (std::size_t i = 0; i < out->head.size(); ++i) out->col[out->head[i]] = i;
+  while (std::getline(lines, line)) {
+    out->rows.push_back(splitFields(line, ','));
+    ASSERT_EQ(out->rows.back().size(), out->head.size()) << line;
+  }
+}
+
+TEST(ErrorSweepTool, PresetAlignedIsWhatTheSummaryCounts) {
+  CORAL_REQUIRE_DATA("radish_aces");
+  SweepCsv sweep;
+  ASSERT_NO_FATAL_FAILURE(sweepAces("", &sweep));
+  const coral_test::ToolRun& r = sweep.run;
+  std::map<std::string, std::size_t>& col = sweep.col;
+  ASSERT_EQ(sweep.head.back(), "preset_aligned");
   ASSERT_TRUE(col.count("aligned") && col.count("ground_truth") && col.count("error"));
   // Per error label: rows judged right by the preset's column, and rows in all.
   std::map<std::string, std::pair<int, int>> right;
   int rows = 0, differ = 0;
-  while (std::getline(lines, line)) {
-    const std::vector<std::string> f = splitFields(line, ',');
-    ASSERT_EQ(f.size(), head.size()) << line;
+  for (const std::vector<std::string>& f : sweep.rows) {
     const bool gt = f[col["ground_truth"]] == "1", preset = f.back() == "1";
     auto& t = right[f[col["error"]]];
     t.first += preset == gt;
@@ -66,33 +81,19 @@ TEST(ErrorSweepTool, PresetAlignedIsWhatTheSummaryCounts) {
 // loop_closure/coarse_registration (2026-12-07), two were (yaw-2 on 480, x+2 on 960).
 TEST(ErrorSweepTool, LoopClosureSweepsTheLoopVerdict) {
   CORAL_REQUIRE_DATA("radish_aces");
-  const std::string args = "--config " + coral_test::sourceDir() +
-                           "/config/lidar_2d.yaml --data carmen:" + coral_data +
-                           "/aces.clf.bz2 --stride 40 --out ";
-  std::vector<std::vector<std::string>> rows[2];  // stream, loop
-  std::map<std::string, std::size_t> col;
-  for (int loop = 0; loop < 2; ++loop) {
-    const std::string csv = coral_test::tempPath("error_sweep_loop", ".csv");
-    const coral_test::ToolRun r =
-        coral_test::runTool(CORAL_ERROR_SWEEP_EXE, args + csv + (loop ? " --loop_closure" : ""));
-    ASSERT_EQ(r.status, 0) << r.err;
-    std::istringstream lines(coral_test::readWholeFile(csv));
-    std::remove(csv.c_str());
-    std::string line;
-    ASSERT_TRUE(std::getline(lines, line));
-    const std::vector<std::string> head = splitFields(line, ',');
-    for (std::size_t i = 0; i < head.size(); ++i) col[head[i]] = i;
-    while (std::getline(lines, line)) rows[loop].push_back(splitFields(line, ','));
-  }
-  ASSERT_EQ(rows[0].size(), 32u * 34u);
-  ASSERT_EQ(rows[1].size(), rows[0].size());
+  SweepCsv stream, loop;
+  ASSERT_NO_FATAL_FAILURE(sweepAces("", &stream));
+  ASSERT_NO_FATAL_FAILURE(sweepAces(" --loop_closure", &loop));
+  std::map<std::string, std::size_t>& col = loop.col;
+  const std::vector<std::vector<std::string>>* rows[2] = {&stream.rows, &loop.rows};
+  ASSERT_EQ(rows[0]->size(), 32u * 34u);
+  ASSERT_EQ(rows[1]->size(), rows[0]->size());
   int differ = 0, large_accepted = 0, errors_large = 0;
-  for (std::size_t i = 0; i < rows[1].size(); ++i) {
-    const std::vector<std::string>& f = rows[1][i];
-    ASSERT_EQ(f.size(), col.size());
-    ASSERT_EQ(f[col["error"]], rows[0][i][col["error"]]);  // the same rows, in the same order
+  for (std::size_t i = 0; i < rows[1]->size(); ++i) {
+    const std::vector<std::string>& f = (*rows[1])[i];
+    ASSERT_EQ(f[col["error"]], (*rows[0])[i][col["error"]]);  // the same rows, in the same order
     EXPECT_EQ(f[col["aligned"]], f.back()) << "row " << i << ": the loop verdict's own column";
-    differ += f.back() != rows[0][i].back();
+    differ += f.back() != (*rows[0])[i].back();
     if (f[col["ground_truth"]] == "1" || std::stod(f[col["multiple"]]) < 2.0) continue;
     ++errors_large;
     large_accepted += f.back() == "1";
