@@ -44,10 +44,9 @@ std::vector<ToleranceOffset> coarseOffsets(const ToleranceConfig& tol, int dimen
 // coarseOffsets; `at_pose_probe` is the pair's Q at T_a_b over the same queries, reused.
 // With `registration` (a's target, built when first needed), b is also registered onto a once
 // from T_a_b (restart_check.hpp registeredNearby, without a bound) and the result, when usable
-// and at least
-// `min_registered_offset` tolerances away (GateConfig::coarse_min_registered_offset), is one
-// more probe. No steps and no
-// registration, or no valid Q at the pose: an invalid result, nothing evaluated.
+// and at least `min_registered_offset` tolerances away (GateConfig::coarse_min_registered_offset),
+// is one more probe. No steps and no registration, or no valid Q at the pose: an invalid result,
+// nothing evaluated.
 CoarseProbeResult coarseProbe(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
                               const CoralResult& at_pose_probe, int dimension,
                               const ToleranceConfig& tol, int max_multiple,

@@ -90,8 +90,8 @@ struct GateConfig {
   bool coarse_registration = false;
   // [tolerances] the registered pose is probed when it lies at least this far from the pose
   // (toleranceSize). A registration measures an error to about +-0.15 tolerances (Livox pairs
-  // moved by one tolerance come back 0.8-1.1 away, doc/verdict_every_error.md "Errors between
-  // the axes"): with 1, half of the errors of exactly one tolerance are not probed. Below 1
+  // moved by one tolerance come back 0.8-1.1 away, doc/verdict_every_error.md "Probed from 0.8
+  // tolerances"): with 1, half of the errors of exactly one tolerance are not probed. Below 1
   // catches them, at the price of probing poses a little inside the tolerance too (those are
   // rejected only where Q is lower there by coarse_margin). In [0.5, 2].
   double coarse_min_registered_offset = 1.0;
