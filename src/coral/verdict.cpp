@@ -224,12 +224,12 @@ AlignmentVerdict judgeAlignment(const Scan& a, const Scan& b, const Eigen::Isome
 
 namespace {
 // The verdict at one pose, no refinement.
-// `target`: a's registration target shared by the checks of one verdict (else built here when
-// the coarse probe registers). `registered`: T_a_b is where a registration of this pair ended
+// `target`: a's registration target shared by the checks of one verdict (built when first
+// needed). `registered`: T_a_b is where a registration of this pair ended
 // (the restart check's, the registration from a rejected candidate's pose): the coarse probe
 // does not register from it again (it would end where it starts; 12-20 ms on a 64-beam pair).
 AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a_b,
-                             const VerdictConfig& cfg, const LazySurfaceTarget* target = nullptr,
+                             const VerdictConfig& cfg, const LazySurfaceTarget& target,
                              bool registered = false) {
   AlignmentVerdict v;
   // One prepared pair for every pose: the relative check's Q values and the Q at the pose
@@ -258,12 +258,9 @@ AlignmentVerdict judgeAtPose(const CoralPair& pair, const Eigen::Isometry3d& T_a
   if (rel_needed &&
       ((!v.relative.misaligned && coarseProbeJudges(cfg.gate, v.classifier.probability)) ||
        cfg.measure_gate_terms)) {
-    const LazySurfaceTarget own(pair.points(0), coral, cfg.restart.registration);
-    const LazySurfaceTarget* registration = !cfg.gate.coarse_registration || registered ? nullptr
-                                            : target                                    ? target
-                                                                                        : &own;
+    const bool registers = cfg.gate.coarse_registration && !registered;
     v.coarse = coarseProbe(pair, T_a_b, at_pose_probe, coral.dimension, cfg.tolerance,
-                           cfg.gate.coarse_max_multiple, registration,
+                           cfg.gate.coarse_max_multiple, registers ? &target : nullptr,
                            cfg.gate.coarse_min_registered_offset);
   }
   combineVerdict(cfg.method, v.classifier, v.relative, cfg.relative, &v, cfg.gate, gateTerms(v));
@@ -295,14 +292,14 @@ void checkRestarts(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const 
   v->restart = betterAlignmentElsewhere(
       pair, T_a_b, judgedPose(*v), cfg.tolerance, cfg.restart,
       [&](const Eigen::Isometry3d& T) {
-        return judgedPose(judgeAtPose(pair, T, cfg, &target, true));
+        return judgedPose(judgeAtPose(pair, T, cfg, target, true));
       },
       &target.get());
   const RestartResult& r = v->restart;
   if (!r.better_elsewhere) return;
   // Judged again at the pose the check chose (rarely: only when it rejects) rather than
   // mirroring its choice in the judge above.
-  const AlignmentVerdict best = judgeAtPose(pair, r.T_a_b, cfg, &target, true);
+  const AlignmentVerdict best = judgeAtPose(pair, r.T_a_b, cfg, target, true);
   v->aligned = false;
   // The local terms still say aligned; at most 0.5 so that the probability does not read
   // as a confident "aligned" for a rejected candidate.
@@ -328,7 +325,7 @@ bool acceptNearby(const CoralPair& pair, const Eigen::Isometry3d& T_a_b, const V
   v->nearby = registeredNearby(
       pair, T_a_b, cfg.tolerance, cfg.restart, cfg.gate.max_registered_offset,
       [&](const Eigen::Isometry3d& T) {
-        w = judgeAtPose(pair, T, cfg, &target, true);
+        w = judgeAtPose(pair, T, cfg, target, true);
         if (cfg.gate.restarts && w.valid && w.aligned) checkRestarts(pair, T, cfg, &w, target);
         return registeredPoseAccepted(w, cfg.gate);
       },
@@ -347,7 +344,7 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
                                 const VerdictConfig& cfg) {
   // One registration target for every check below that registers (built when first needed).
   const LazySurfaceTarget target(pair.points(0), pair.config(), cfg.restart.registration);
-  AlignmentVerdict v = judgeAtPose(pair, T_a_b, cfg, &target);
+  AlignmentVerdict v = judgeAtPose(pair, T_a_b, cfg, target);
   if (cfg.method == VerdictMethod::kGated && cfg.gate.restarts && v.valid && v.aligned) {
     checkRestarts(pair, T_a_b, cfg, &v, target);
     return v;
@@ -362,7 +359,7 @@ AlignmentVerdict judgeAlignment(const CoralPair& pair, const Eigen::Isometry3d& 
   // aligned because a better one lies nearby. The refined pose is offered with its own
   // verdict (doc/loop_closure.md: accepting it in place of the given pose also accepted
   // relations moved by 1-2 tolerances onto other minima of Q that look aligned).
-  const AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg, &target);
+  const AlignmentVerdict w = judgeAtPose(pair, T_a_b * v.refinement.delta, cfg, target);
   v.refined = refinedPoseAccepted(w);
   std::string why = w.valid ? w.rejected_by : w.reason;
   if (why.empty())  // passed the gate, not the classifier's own threshold

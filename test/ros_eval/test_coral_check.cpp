@@ -314,15 +314,17 @@ void loadAcesLoops(const std::string& aces_dir, AcesLoops* out) {
 }
 
 // `coral_check --config lidar_2d.yaml --loop_closure` on relation c's scans at pose T (or with
-// the preset at `config`).
+// the preset at `config` when not empty).
 CheckRun checkLoop(const CarmenLoopSet& set, const LoopCandidate& c, const Eigen::Isometry3d& T,
-                   const std::string& config = coral_test::sourceDir() + "/config/lidar_2d.yaml") {
+                   const std::string& config = "") {
   const std::string a = tempPath("cc_loop_a", ".pcd"), b = tempPath("cc_loop_b", ".pcd"),
                     t = tempPath("cc_loop_t", ".txt");
   writePcd(a, set.rel_scans[c.a].scan.points);
   writePcd(b, set.rel_scans[c.b].scan.points);
   writeMatrix(t, T);
-  return runCheck("--config " + config + " --loop_closure --a " + a + " --b " + b +
+  const std::string preset =
+      config.empty() ? coral_test::sourceDir() + "/config/lidar_2d.yaml" : config;
+  return runCheck("--config " + preset + " --loop_closure --a " + a + " --b " + b +
                   " --transform_file " + t);
 }
 
@@ -390,8 +392,7 @@ MovedRelation findMovedRelation(
 void checkMoved(const AcesLoops& aces, const MovedRelation& m, const char* what, CheckRun* r,
                 const std::string& config = "") {
   ASSERT_NE(m.relation, nullptr) << "no ACES relation " << what;
-  *r = config.empty() ? checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off)
-                      : checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off, config);
+  *r = checkLoop(aces.set, *m.relation, m.relation->T_a_b * m.off, config);
   ASSERT_EQ(r->status, 0) << r->err;
 }
 

@@ -85,15 +85,14 @@ TEST(ErrorSweepTool, LoopClosureSweepsTheLoopVerdict) {
   ASSERT_NO_FATAL_FAILURE(sweepAces("", &stream));
   ASSERT_NO_FATAL_FAILURE(sweepAces(" --loop_closure", &loop));
   std::map<std::string, std::size_t>& col = loop.col;
-  const std::vector<std::vector<std::string>>* rows[2] = {&stream.rows, &loop.rows};
-  ASSERT_EQ(rows[0]->size(), 32u * 34u);
-  ASSERT_EQ(rows[1]->size(), rows[0]->size());
+  ASSERT_EQ(stream.rows.size(), 32u * 34u);
+  ASSERT_EQ(loop.rows.size(), stream.rows.size());
   int differ = 0, large_accepted = 0, errors_large = 0;
-  for (std::size_t i = 0; i < rows[1]->size(); ++i) {
-    const std::vector<std::string>& f = (*rows[1])[i];
-    ASSERT_EQ(f[col["error"]], (*rows[0])[i][col["error"]]);  // the same rows, in the same order
+  for (std::size_t i = 0; i < loop.rows.size(); ++i) {
+    const std::vector<std::string>&f = loop.rows[i], &g = stream.rows[i];
+    ASSERT_EQ(f[col["error"]], g[col["error"]]);  // the same rows, in the same order
     EXPECT_EQ(f[col["aligned"]], f.back()) << "row " << i << ": the loop verdict's own column";
-    differ += f.back() != (*rows[0])[i].back();
+    differ += f.back() != g.back();
     if (f[col["ground_truth"]] == "1" || std::stod(f[col["multiple"]]) < 2.0) continue;
     ++errors_large;
     large_accepted += f.back() == "1";

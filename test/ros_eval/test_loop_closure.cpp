@@ -315,17 +315,16 @@ std::vector<eval::PoseGraphEdge> loopGraph(
 // loop_closure/max_registered_offset), 0 false accepted (of the relations registered about 1 m
 // off that pass the local terms, the registration from the pose rejects one,
 // loop_closure/coarse_registration since 2026-12-07: the restart check did before); the relative
-// check alone 30
-// false (41 with the look-alikes chosen on the folded reference before 2026-12-07's third
-// session: doc/loop_closure.md "Intel's graphs were folded"). The restart check also rejects one
-// true candidate: relation 130-680 registered again 0.05 m / 1.4 deg from the relation (Q 0.102),
-// for an alignment 8.7 tolerances away with Q 0.058 (the cubicle rows repeat). The classifier of
-// lidar_2d was trained on ACES: this is a cross-data-set figure.
-// The graphs, as coral_loop_eval solves them (from the odometry and from the linear start, the
-// lower cost kept): measured ATE against the relation graph, oracle 0.141 m, verdict 0.165 m
-// (every right candidate an edge, against the verdict's accepted ones). From the raw odometry
-// alone both stop in a folded local minimum, on the odd rows 9.4 and 9.1 m from the relation
-// graph (doc/loop_closure.md "Intel's graphs were folded").
+// check alone 30 false (41 with the look-alikes chosen on the folded reference before 2026-12-07's
+// third session: doc/loop_closure.md "Intel's graphs were folded"). The restart check also rejects
+// one true candidate: relation 130-680 registered again 0.05 m / 1.4 deg from the relation (Q
+// 0.102), for an alignment 8.7 tolerances away with Q 0.058 (the cubicle rows repeat). The
+// classifier of lidar_2d was trained on ACES: this is a cross-data-set figure. The graphs, as
+// coral_loop_eval solves them (from the odometry and from the linear start, the lower cost kept):
+// measured ATE against the relation graph, oracle 0.141 m, verdict 0.165 m (every right candidate
+// an edge, against the verdict's accepted ones). From the raw odometry alone both stop in a folded
+// local minimum, on the odd rows 9.4 and 9.1 m from the relation graph (doc/loop_closure.md
+// "Intel's graphs were folded").
 TEST(LoopClosure, Lidar2dOnTheIntelLoops) {
   CORAL_REQUIRE_DATA("radish_intel");
   JudgedLoops judged;
@@ -357,8 +356,7 @@ TEST(LoopClosure, Lidar2dOnTheIntelLoops) {
 // - point-to-point: 197 true, 280 false; loop verdict 163 true (149 at their pose, 15 more
 //   registered back within half a tolerance; since 2026-12-07 the registration from the pose
 //   rejects 47-27, accepted at its pose 0.27 m from its relation), 0 false; the relative check
-//   alone 36 false. Median
-//   error of the true registrations 0.128 m.
+//   alone 36 false. Median error of the true registrations 0.128 m.
 // - point-to-line: the true registrations end closer to the relations (median 0.059 m), and
 //   the look-alike places ICP converges on are better fitted too: 189 true, 290 false; loop
 //   verdict 161 true (153 at their pose), 3 false accepted (look-alikes 22-32 m apart; 6 pass the
