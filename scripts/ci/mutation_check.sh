@@ -50,7 +50,7 @@ MUTATIONS=(
   "constraint counts a denser scanner's points whole@src/coral/beam_spacing.cpp@const double share = step / reference_step_deg;@const double share = 1.0;@test_constraint test_beam_spacing"
   "a finer 2D scan is not thinned to the preset's beam spacing@src/coral/beam_spacing.cpp@if \(k < 2\) return in;@if (k < 1000) return in;@test_beam_spacing"
   "free-space bins of 1 deg for a coarser 2D scanner@src/coral/free_space.cpp@step > 1\.05 \* bin_deg \? std::min@step > 1e9 * bin_deg ? std::min@test_free_space"
-  "coarse probe's margin never reached@src/coral/verdict.cpp@terms\.coarse\.drop\(\) > gate\.coarse_margin@terms.coarse.drop() > gate.coarse_margin + 1.0@test_coarse_probe"
+  "coarse probe's margin never reached@src/coral/verdict.cpp@coarse\.drop\(\) > gate\.coarse_margin;@coarse.drop() > gate.coarse_margin + 1.0;@test_coarse_probe"
   "registered pose's classifier bound ignored@src/coral/verdict.cpp@at_registered\.classifier\.probability >= gate\.registered_min_probability;@true;@test_restart_check"
   "flat-axes bound off by one@src/coral/verdict.cpp@static_cast<int>\(flat\.size\(\)\) > gate\.max_flat_axes@static_cast<int>(flat.size()) >= gate.max_flat_axes@test_relative_check"
   "flat-axes bound counts roll, pitch and z too@src/coral/relative_check.cpp@if \(a == Axis::kX \|\| a == Axis::kY \|\| a == Axis::kYaw\) out\.push_back\(a\);@out.push_back(a);@test_relative_check"

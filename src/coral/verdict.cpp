@@ -122,6 +122,10 @@ bool coarseProbeJudges(const GateConfig& gate, double p) {
   return gate.coarse_below_probability >= 1.0 || p < gate.coarse_below_probability;
 }
 
+bool coarseProbeRejects(const GateConfig& gate, const CoarseProbeResult& coarse, double p) {
+  return coarse.valid && coarseProbeJudges(gate, p) && coarse.drop() > gate.coarse_margin;
+}
+
 void combineVerdict(VerdictMethod method, const Verdict& classifier,
                     const RelativeCheckResult& relative, const RelativeCheckConfig& cfg,
                     AlignmentVerdict* out, const GateConfig& gate, const GateTerms& terms) {
@@ -162,8 +166,7 @@ void combineVerdict(VerdictMethod method, const Verdict& classifier,
       out->aligned = !relative.misaligned;
       if (relative.misaligned) {
         out->rejected_by = relativeRejection(relative, cfg);
-      } else if (terms.coarse.valid && coarseProbeJudges(gate, classifier.probability) &&
-                 terms.coarse.drop() > gate.coarse_margin) {
+      } else if (coarseProbeRejects(gate, terms.coarse, classifier.probability)) {
         out->aligned = false;
         // A fixed step found a minimum past the CorAl radius; the registration also one in a
         // valley of Q between the axes, which may lie within the radius

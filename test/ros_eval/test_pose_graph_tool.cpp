@@ -60,8 +60,10 @@ std::string emptyDir(const std::string& name) {
 }
 
 // The candidate rows of a run's candidates.csv (header left out), split into fields.
-std::vector<std::vector<std::string>> candidateRows(const std::string& out_dir) {
-  std::istringstream csv(coral_test::readWholeFile(out_dir + "/candidates.csv"));
+// The rows of OUT_DIR/FILE (candidates.csv, front_end.csv) below its header, cell by cell.
+std::vector<std::vector<std::string>> csvRows(const std::string& out_dir,
+                                              const std::string& file = "candidates.csv") {
+  std::istringstream csv(coral_test::readWholeFile(out_dir + "/" + file));
   std::vector<std::vector<std::string>> rows;
   std::string line;
   std::getline(csv, line);
@@ -151,7 +153,7 @@ TEST(PoseGraphArgs, ASmallSequenceIsGatedAndWritten) {
   ASSERT_TRUE(coral_introspection::eval::readKittiPoses(out + "/trajectory.kitti", &poses, &err))
       << err;
   EXPECT_EQ(poses.size(), 3u);
-  EXPECT_EQ(candidateRows(out).size(), 3u);
+  EXPECT_EQ(csvRows(out).size(), 3u);
 }
 
 // Planar keyframes (PCD fields x, y): read as 2D scans under lidar_2d, where the room's three
@@ -185,7 +187,7 @@ TEST(PoseGraphArgs, AnEmptyKeyframeIsRejectedNotACrash) {
                                   " --keyframes " + box + " --out_dir " + out +
                                   " --min_gap 1 --registration " + registration);
     ASSERT_EQ(r.status, 0) << registration << "\n" << r.err;
-    const auto rows = candidateRows(out);
+    const auto rows = csvRows(out);
     for (const std::vector<std::string>& f : rows) {
       ASSERT_EQ(f.size(), 15u);
       if (f[0] != "1" && f[1] != "1") continue;  // a pair without the empty keyframe
@@ -233,7 +235,7 @@ TEST(PoseGraphLivox, TheVerdictAcceptsNoFalseEdgeWhereUngatedTheMapBends) {
       coral_introspection::eval::readKittiPoses(out_verdict + "/trajectory.kitti", &written, &err));
   EXPECT_EQ(written.size(), 314u);
   // Every accepted candidate against the reference's relative pose.
-  const auto rows = candidateRows(out_verdict);
+  const auto rows = csvRows(out_verdict);
   int revisits_accepted = 0, false_accepted = 0;
   for (const std::vector<std::string>& f : rows) {
     ASSERT_EQ(f.size(), 15u);
@@ -297,7 +299,7 @@ TEST(PoseGraphCarmen, OnTheAcesLogTheVerdictsGraphBeatsTheOdometryAndTheFitnessG
     ASSERT_TRUE(
         coral_introspection::eval::readKittiPoses(out + "/trajectory.kitti", &written, &err));
     EXPECT_GT(written.size(), 300u);  // a keyframe per metre of a ~400 m drive
-    EXPECT_EQ(candidateRows(out).empty(), false);
+    EXPECT_EQ(csvRows(out).empty(), false);
   }
   EXPECT_DOUBLE_EQ(odom[0], odom[1]);
   EXPECT_LT(graph[0], 0.5 * odom[0]);  // the verdict's loop edges correct the drift
@@ -305,7 +307,10 @@ TEST(PoseGraphCarmen, OnTheAcesLogTheVerdictsGraphBeatsTheOdometryAndTheFitnessG
   EXPECT_GT(graph[2], odom[0]);        // and so do all of them
 
   // The scan-matching front end: odometry steps whose registration the stream verdict accepts
-  // replace the wheel odometry's, and the odometry alone comes closer to the relations.
+  // replace the wheel odometry's (or the pose the verdict's own registration reached, when it
+  // rejected the step for that lower minimum of Q: ros_eval::streamVerdictDecision), and the
+  // odometry alone comes closer to the relations: 0.236 m against the wheels' 0.549 (0.417
+  // without the second try).
   const std::string out = emptyDir("pose_graph_aces_front_end");
   const coral_test::ToolRun r = coral_test::runTool(
       CORAL_POSE_GRAPH_EXE, common + " --out_dir " + out + " --front_end scan_matching");
@@ -317,9 +322,20 @@ TEST(PoseGraphCarmen, OnTheAcesLogTheVerdictsGraphBeatsTheOdometryAndTheFitnessG
   ASSERT_EQ(std::sscanf(r.out.c_str() + at, "front end: %d of %d", &replaced, &steps), 2);
   EXPECT_GT(replaced, steps / 2);
   EXPECT_LT(replaced, steps);  // some registrations are refused
+  // front_end.csv says how each step was measured; some at the verdict's registered pose.
+  const auto fe = csvRows(out, "front_end.csv");
+  ASSERT_EQ(static_cast<int>(fe.size()), steps);
+  int measured = 0, second_tries = 0;
+  for (const auto& row : fe) {
+    ASSERT_EQ(row.size(), 9u);
+    measured += row[4] != "odometry" ? 1 : 0;
+    second_tries += row[4] == "verdict_registration" ? 1 : 0;
+  }
+  EXPECT_EQ(measured, replaced);
+  EXPECT_GT(second_tries, 0);
   double matched_odom = 0, matched_graph = 0;
   ASSERT_TRUE(relationErrors(r.out, &matched_odom, &matched_graph)) << r.out;
-  EXPECT_LT(matched_odom, 0.9 * odom[0]);
+  EXPECT_LT(matched_odom, 0.5 * odom[0]);
 }
 
 // A false loop closure the verdict accepts, and the back end's check behind it. With 20
@@ -348,7 +364,7 @@ TEST(PoseGraphCarmen, TheOdometryCheckKeepsAnAcceptedLookAlikeOutOfTheGraph) {
   ASSERT_TRUE(relationErrors(r.out, &odom, &checked)) << r.out;
   EXPECT_NE(r.out.find("pcm (chi-square 0.99)"), std::string::npos) << r.out;
   int lookalikes_accepted = 0, in_graph = 0;
-  for (const auto& row : candidateRows(out)) {
+  for (const auto& row : csvRows(out)) {
     ASSERT_EQ(row.size(), 15u);
     const bool accepted = row[6] == "1", out_of_graph = row[14] == "1";
     EXPECT_TRUE(accepted || !out_of_graph);  // only accepted edges are checked
@@ -373,8 +389,8 @@ TEST(PoseGraphCarmen, TheOdometryCheckKeepsAnAcceptedLookAlikeOutOfTheGraph) {
 // accepts 13 of the revisits proposed and the graph stays where the odometry is. With
 // --front_end calibrated the odometry's yaw is calibrated on the steps its scan matching and the
 // stream verdict accept, and then the verdict's graph closes loops. Measured (relation error):
-// raw odometry 7.37 m, calibrated 4.43 m; the verdict's graph 2.67 m (48 edges), the fitness
-// gate's 5.43 m (467 edges), worse than the calibrated odometry alone.
+// raw odometry 7.37 m, calibrated 4.47 m; the verdict's graph 2.67 m (48 edges), the fitness
+// gate's 5.67 m (421 edges), worse than the calibrated odometry alone.
 TEST(PoseGraphCarmen, EveryIntelRelationIsMeasuredAndTheCalibratedOdometryClosesLoops) {
   CORAL_REQUIRE_DATA("radish_intel");
   const std::string common = "--config " + coral_test::sourceDir() + "/config/lidar_2d.yaml" +

@@ -211,6 +211,12 @@ double relativeProbability(const RelativeCheckResult& r, const RelativeCheckConf
 // Whether the gate's coarse probe judges a pose of classifier p (coarse_below_probability).
 bool coarseProbeJudges(const GateConfig& gate, double p);
 
+// Whether the method kGated's coarse probe rejects a pose of classifier p that passed the
+// relative check: it judges the pose and a probe's Q is lower by more than coarse_margin. With
+// coarse.lowest_registered, the verdict's words are "a lower minimum of Q nearby", and the pose
+// T_a_b * coarse.lowest.delta is that minimum (a front end's second try: ros_eval).
+bool coarseProbeRejects(const GateConfig& gate, const CoarseProbeResult& coarse, double p);
+
 // The absolute terms the gate reads besides the classifier's p, measured at the pose.
 struct GateTerms {
   double overlap = 1.0;  // CorAl's overlap fraction

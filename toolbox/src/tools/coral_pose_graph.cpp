@@ -21,8 +21,10 @@
 //      loop_closure answers it (online::judgePair with coral::loopClosureVerdict); --gate
 //      fitness instead accepts PCL's fitness score <= --max_fitness (LIO-SAM's 0.3), --gate
 //      none every candidate, for comparison; --front_end scan_matching first replaces each odometry
-//      step by its registration where the stream verdict accepts it, --front_end calibrated
-//      keeps the odometry with its yaw calibrated on those steps (eval::calibratedOdometry);
+//      step by its registration where the stream verdict accepts it (or by the pose the
+//      verdict's own registration reached, ros_eval::streamVerdictDecision), --front_end
+//      calibrated keeps the odometry with its yaw calibrated on those steps
+//      (eval::calibratedOdometry); either writes every step as OUT_DIR/front_end.csv;
 //   4. a pose graph of the odometry edges and the accepted loop edges (the pose the verdict
 //      offers when it accepts a registered one, else the candidate's), optimised with Ceres
 //      (eval/pose_graph.hpp), written as OUT_DIR/trajectory.tum and trajectory.kitti, and every
@@ -85,6 +87,32 @@ constexpr const char* kUsage =
     "relation error)]";
 
 int fail(const std::string& msg) { return eval::toolError("coral_pose_graph", msg, kUsage); }
+
+// How the front end measured a step: its registration as the stream verdict accepted it, the
+// pose the verdict's own registration reached, or not at all (the odometry's step stays).
+struct FrontEndStep {
+  const char* source = "odometry";
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();  // b in a's frame, as measured
+};
+
+// OUT_DIR/front_end.csv: one row per odometry step (keyframe b - 1 to b).
+bool writeFrontEndSteps(const std::string& path, const std::vector<eval::TrainingScan>& scans,
+                        const std::vector<FrontEndStep>& steps, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot write " + path;
+    return false;
+  }
+  out << "a,b,stamp_a,stamp_b,source,x,y,z,yaw_deg\n";
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const Eigen::Vector3d t = steps[k].T.translation();
+    out << k << ',' << k + 1 << ',' << std::to_string(scans[k].stamp) << ','
+        << std::to_string(scans[k + 1].stamp) << ',' << steps[k].source << ',' << t.x() << ','
+        << t.y() << ',' << t.z() << ',' << coral::yawOf(steps[k].T.rotation()) * 180.0 / M_PI
+        << '\n';
+  }
+  return static_cast<bool>(out);
+}
 
 // Keyframe odometry (lidar-inertial) is good to a few cm per keyframe; a registered loop edge
 // to about the tolerance's tenth (coral_loop_eval's settings). A CARMEN log's wheel odometry:
@@ -231,11 +259,22 @@ int main(int argc, char** argv) {
   // the accepted ones calibrate the odometry's yaw (calibrated).
   int steps_matched = 0;
   eval::OdometryYawModel yaw_model;
-  const eval::LoopDecision stream = ros_eval::streamVerdictDecision(scans, node.online);
+  std::vector<FrontEndStep> fe_steps;
+  for (std::size_t k = 1; k < odom.size(); ++k)
+    fe_steps.push_back({"odometry", odom[k - 1].inverse() * odom[k]});
+  const eval::LoopDecision verdict = ros_eval::streamVerdictDecision(scans, node.online);
+  const eval::LoopDecision stream = [&](const eval::LoopCandidate& c, Eigen::Isometry3d* T) {
+    if (!verdict(c, T)) return false;
+    fe_steps[c.a] = {T->isApprox(c.T_a_b) ? "registration" : "verdict_registration", *T};
+    return true;
+  };
   if (front_end == "scan_matching")
     odom = eval::scanMatchedOdometry(scans, odom, cand, stream, &steps_matched);
   if (front_end == "calibrated" &&
       !eval::calibratedOdometry(scans, odom, cand, stream, &odom, &yaw_model, &err))
+    return fail(err);
+  if (front_end != "odometry" &&
+      !writeFrontEndSteps(out_dir + "/front_end.csv", scans, fe_steps, &err))
     return fail(err);
 
   // 3. The gate, asked about one registered candidate.
@@ -396,18 +435,23 @@ int main(int argc, char** argv) {
         "odometry between their ends, %d more as they are not in the largest pairwise "
         "consistent set\n",
         pcm.probability, accepted, odometry_out, pairwise_out);
+  const auto second_tries = std::count_if(
+      fe_steps.begin(), fe_steps.end(),
+      [](const FrontEndStep& f) { return std::string(f.source) == "verdict_registration"; });
   if (front_end == "scan_matching")
     std::printf(
         "front end: %d of %zu odometry steps replaced by their registration (the stream "
-        "verdict accepted it)\n",
-        steps_matched, scans.size() - 1);
+        "verdict accepted it; %td at the pose the verdict's own registration reached)\n",
+        steps_matched, scans.size() - 1, second_tries);
   if (front_end == "calibrated")
     std::printf(
         "front end: odometry yaw calibrated on %d of %zu steps (registered, accepted by the "
-        "stream verdict): %.4f rad per rad turned %+.4f rad per m; step yaw rms %.4f -> %.4f "
-        "rad\n",
-        yaw_model.steps, scans.size() - 1, yaw_model.gain, yaw_model.bias_per_m,
+        "stream verdict; %td at the pose the verdict's own registration reached): %.4f rad "
+        "per rad turned %+.4f rad per m; step yaw rms %.4f -> %.4f rad\n",
+        yaw_model.steps, scans.size() - 1, second_tries, yaw_model.gain, yaw_model.bias_per_m,
         yaw_model.rms_before, yaw_model.rms_after);
+  if (front_end != "odometry")
+    std::printf("front end: every step in %s/front_end.csv\n", out_dir.c_str());
   if (!ref.empty())
     std::printf("ATE against %s: odometry %.3f m, graph %.3f m\n", reference.c_str(),
                 eval::absoluteTrajectoryError(odom, ref, dim),
