@@ -247,6 +247,31 @@ TEST(CloudIo, PcdUndefinedTypeSizeAndCountAreRefused) {
   std::remove(p.c_str());
 }
 
+// A VIEWPOINT other than the identity says the points are not in their sensor's frame: refused
+// with the viewpoint named, not read as if the sensor stood at the origin. The identity, written
+// with -0 or a negated quaternion, is read.
+TEST(CloudIo, PcdWithTheSensorAwayFromItsOriginIsRefused) {
+  const std::string p = tempPath("viewpoint", ".pcd");
+  const std::string head =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+      "WIDTH 1\nHEIGHT 1\n";
+  LoadedCloud c;
+  std::string err;
+  for (const char* viewpoint : {"VIEWPOINT 2 0 0 1 0 0 0", "VIEWPOINT 0 0 1.5 1 0 0 0",
+                                "VIEWPOINT 0 0 0 0.7071068 0 0 0.7071068"}) {
+    writeText(p, head + viewpoint + "\nPOINTS 1\nDATA ascii\n1 2 3\n");
+    EXPECT_FALSE(loadCloud(p, &c, &err)) << viewpoint;
+    EXPECT_NE(err.find("VIEWPOINT"), std::string::npos) << err;
+    EXPECT_NE(err.find("sensor's frame"), std::string::npos) << err;
+  }
+  for (const char* viewpoint : {"VIEWPOINT -0 0 0 1 0 0 0", "VIEWPOINT 0 0 0 -1 0 0 0"}) {
+    writeText(p, head + viewpoint + "\nPOINTS 1\nDATA ascii\n1 2 3\n");
+    ASSERT_TRUE(loadCloud(p, &c, &err)) << viewpoint << ": " << err;
+    EXPECT_EQ(c.points[0], Vec3(1, 2, 3));
+  }
+  std::remove(p.c_str());
+}
+
 TEST(CloudIo, KittiBinRecordsAndTruncatedFile) {
   const std::string p = tempPath("kitti", ".bin");
   const float rec[8] = {1.f, 2.f, 3.f, 0.25f, -7.f, 8.5f, -9.f, 1.f};

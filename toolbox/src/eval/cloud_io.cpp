@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -137,6 +138,19 @@ bool loadPcd(const std::string& path, LoadedCloud* cloud, std::string* error, bo
   if (reader.readHeader(path, c, origin, orientation, version, encoding, data_start) < 0 ||
       reader.read(path, c) < 0)
     return coral::fail(error, path + ": not a readable PCD file");
+  // VIEWPOINT places the sensor in the points' frame. Every scan is read in its own sensor's
+  // frame (CorAl's radius, the free-space rays and the transform all start there), so a cloud
+  // stored in another frame is refused rather than read as if the sensor stood at its origin.
+  const Eigen::Quaternionf identity = Eigen::Quaternionf::Identity();
+  if (origin.head<3>().norm() > 1e-6f || orientation.angularDistance(identity) > 1e-6f) {
+    char v[160];
+    std::snprintf(v, sizeof(v), "%g %g %g %g %g %g %g", origin.x(), origin.y(), origin.z(),
+                  orientation.w(), orientation.x(), orientation.y(), orientation.z());
+    return coral::fail(error, path + ": VIEWPOINT " + v +
+                                  " puts the sensor away from the points' origin; scans are read "
+                                  "in their sensor's frame: store the points there (VIEWPOINT 0 0 "
+                                  "0 1 0 0 0)");
+  }
   const pcl::PCLPointField* f[4] = {nullptr, nullptr, nullptr, nullptr};
   const char* names[4] = {"x", "y", "z", "intensity"};
   for (const pcl::PCLPointField& field : c.fields)

@@ -1,7 +1,8 @@
 // Point clouds, transforms and pose lists from files, for tools and tests. ROS-free.
 //  - .pcd (ascii / binary / binary_compressed): read with PCL's PCD reader; fields x y z
 //    of TYPE F (SIZE 4 or 8), [intensity] of any PCD type, each read exactly; integer
-//    coordinates, undefined TYPE / SIZE pairs and COUNT other than 1 are refused;
+//    coordinates, undefined TYPE / SIZE pairs and COUNT other than 1 are refused, and so is a
+//    VIEWPOINT other than 0 0 0 1 0 0 0 (the points must be in their sensor's frame);
 //  - .bin (KITTI / Velodyne): float32 records x, y, z, intensity;
 //  - .csv (libpointmatcher): a header line, then x, y, z[, more columns] per line.
 #pragma once
