@@ -153,7 +153,14 @@ TEST(PairwiseConsistency, RefusesBadInput) {
   cfg.dimension = 2;
   std::swap(edges[3], edges[4]);  // odometry out of order
   EXPECT_FALSE(pairwiseInconsistentLoops(edges, cfg, &rejected, &error));
-  EXPECT_NE(error.find("chain"), std::string::npos) << error;
+  EXPECT_NE(error.find("pairwise consistency: the odometry edges are not the chain"),
+            std::string::npos)
+      << error;
+  // The odometry check names itself, not the pairwise test it shares the code with.
+  EXPECT_FALSE(odometryInconsistentLoops(edges, cfg, &rejected, &error));
+  EXPECT_NE(error.find("odometry consistency: the odometry edges are not the chain"),
+            std::string::npos)
+      << error;
   std::swap(edges[3], edges[4]);
   edges.back().to = 40;  // past the chain's last node
   EXPECT_FALSE(pairwiseInconsistentLoops(edges, cfg, &rejected, &error));

@@ -115,6 +115,7 @@ template <int N>
 bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
                        const PairwiseConsistencyConfig& cfg, bool pairwise,
                        std::vector<int>* rejected, std::string* error) {
+  const std::string what = pairwise ? "pairwise consistency: " : "odometry consistency: ";
   using TS = Tangent<N>;
   using Mat = typename TS::Mat;
   // The odometry chain: poses P_k (P_0 = I) and prefix sums G_k = sum_{m<k} Ad_{P_(m+1)}
@@ -130,11 +131,11 @@ bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
       continue;
     }
     if (e.from != static_cast<int>(P.size()) - 1 || e.to != e.from + 1)
-      return coral::fail(error,
-                         "pairwise consistency: the odometry edges are not the chain 0 -> "
-                         "1 -> ... in order (edge " +
-                             std::to_string(k) + ": " + std::to_string(e.from) + " -> " +
-                             std::to_string(e.to) + ")");
+      return coral::fail(error, what +
+                                    "the odometry edges are not the chain 0 -> "
+                                    "1 -> ... in order (edge " +
+                                    std::to_string(k) + ": " + std::to_string(e.from) + " -> " +
+                                    std::to_string(e.to) + ")");
     P.push_back(P.back() * e.T_from_to);
     const Mat A = TS::adjoint(P.back());
     G.push_back(G.back() +
@@ -145,7 +146,7 @@ bool inconsistentLoops(const std::vector<PoseGraphEdge>& edges,
   for (int k = 0; k < nodes; ++k) ad_inv[k] = TS::adjoint(P[k].inverse());
   for (int k : loops)
     if (std::min(edges[k].from, edges[k].to) < 0 || std::max(edges[k].from, edges[k].to) >= nodes)
-      return coral::fail(error, "pairwise consistency: loop edge " + std::to_string(k) +
+      return coral::fail(error, what + "loop edge " + std::to_string(k) +
                                     " joins a node the odometry chain does not reach");
   boost::math::chi_squared chi2(N);
   const double bound = boost::math::quantile(chi2, cfg.probability);
