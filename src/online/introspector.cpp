@@ -124,8 +124,9 @@ Report Introspector::process(ScanInput in, const ProcessOptions& options) {
   if (sequence_start) velocity_.reset();
   const bool have_velocity = velocity_.add(in.stamp, cur.T_fixed_sensor);
 
-  // The one de-skew policy (radar/deskew.hpp), exactly as deskewVelocities() in training.
-  if (in.is_radar && cfg_.deskew.enabled) {
+  // The one de-skew policy (radar/deskew.hpp), exactly as deskewVelocities() in training; a
+  // lidar scan whose beams carry their times is de-skewed the same way.
+  if ((in.is_radar || in.point_stamps) && cfg_.deskew.enabled) {
     if (have_velocity) {
       const radar::Twist v = velocity_.deskewVelocity();
       radar::compensateMotion(v, in.stamp, &in.features);

@@ -71,6 +71,12 @@ bool toSensorScan(const sensor_msgs::LaserScan& scan, const NodeConfig&, SensorS
   }
   coral::Points& p = out->scan.features.points;
   p.reserve(n);
+  // Beam i is measured time_increment after beam i - 1, the first at the header's stamp
+  // (REP 117's LaserScan): with a time, the beams are de-skewed by the odometry's velocity
+  // (a 10 Hz scanner turning at 1 rad/s sweeps 6 deg, more than lidar_2d's tolerance).
+  const double dt = scan.time_increment;
+  out->scan.point_stamps = std::isfinite(dt) && dt != 0.0;
+  std::vector<double>& stamps = out->scan.features.stamps;
   for (std::size_t i = 0; i < n; ++i) {
     const double r = scan.ranges[i];
     if (std::isnan(r)) {
@@ -80,6 +86,7 @@ bool toSensorScan(const sensor_msgs::LaserScan& scan, const NodeConfig&, SensorS
     if (!(r >= lo && r < hi)) continue;  // +-Inf, too close, at or past range_max: no return
     const double a = a0 + static_cast<double>(i) * da;
     p.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+    if (out->scan.point_stamps) stamps.push_back(out->scan.stamp + static_cast<double>(i) * dt);
   }
   if (p.empty()) {
     e << "laser scan of " << n << " readings has none in [range_min, range_max) = [" << lo << ", "

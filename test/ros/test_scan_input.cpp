@@ -234,6 +234,31 @@ TEST(LaserScanToSensorScan, BeamsBecomePlanarPointsAndNoReturnsAreLeftOut) {
   EXPECT_NEAR(out.scan.features.points.back().y(), -2.0, 1e-5);
 }
 
+// With a time_increment each point carries its beam's time (the header's stamp for beam 0;
+// dropped readings keep their slot), for the de-skew; without one (0, or not finite) none.
+TEST(LaserScanToSensorScan, EachBeamIsStampedByTimeIncrement) {
+  const double deg = M_PI / 180.0;
+  sensor_msgs::LaserScan s = laserScan(360, 0.0, 1.0 * deg, 3.0f);
+  s.time_increment = 0.1f / 360.0f;  // a 10 Hz scanner
+  s.ranges[1] = std::numeric_limits<float>::infinity();
+  ros_adapters::SensorScan out;
+  std::string err;
+  ASSERT_TRUE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err)) << err;
+  EXPECT_TRUE(out.scan.point_stamps);
+  const std::vector<double>& t = out.scan.features.stamps;
+  ASSERT_EQ(t.size(), out.scan.features.points.size());
+  ASSERT_EQ(t.size(), 359u);
+  EXPECT_DOUBLE_EQ(t[0], 50.0);
+  EXPECT_NEAR(t[1], 50.0 + 2.0 * s.time_increment, 1e-9);  // beam 2: beam 1 had no return
+  EXPECT_NEAR(t.back(), 50.0 + 359.0 * s.time_increment, 1e-9);
+  for (float dt : {0.0f, std::numeric_limits<float>::quiet_NaN()}) {
+    s.time_increment = dt;
+    ASSERT_TRUE(ros_adapters::toSensorScan(s, laserConfig(), &out, &err)) << err;
+    EXPECT_FALSE(out.scan.point_stamps) << dt;
+    EXPECT_TRUE(out.scan.features.stamps.empty()) << dt;
+  }
+}
+
 TEST(LaserScanToSensorScan, ScansThatCannotBeReadAreRefusedWithTheReason) {
   const double deg = M_PI / 180.0;
   ros_adapters::SensorScan out;

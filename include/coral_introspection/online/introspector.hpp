@@ -25,9 +25,13 @@ struct ScanInput {
   double stamp = 0.0;  // [s] scan time (radar: the reference time of the row stamps)
   uint64_t id = 0;     // caller's tag, returned in the report (the nodelet: stamp in ns)
   // Points in the sensor frame; radar features also carry per-point stamps (de-skew) and
-  // intensity. Lidar: points only.
+  // intensity. Lidar: points, and per-point stamps where the scan says when each beam was
+  // measured (a LaserScan's time_increment).
   radar::RadarFeatures features;
   bool is_radar = false;  // features.stamps are valid: de-skew with the velocity
+  // A lidar scan whose features.stamps are valid: de-skewed as radar features are
+  // (motion_compensation/enabled), a slow 2D laser's sweep taking a turn's worth of time.
+  bool point_stamps = false;
   // 4D radar: radial velocity per point [m/s] (empty: no Doppler check) and, optionally,
   // the point covariances (sensor frame); empty: from the configured polar noise model.
   std::vector<double> radial_velocity;

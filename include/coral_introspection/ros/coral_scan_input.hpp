@@ -38,7 +38,8 @@ bool toSensorScan(const sensor_msgs::PointCloud2& cloud, const NodeConfig& cfg, 
 // as a point it would be a wall that is not there: doc/loop_closure.md "No-return readings");
 // NaN readings are counted in dropped_non_finite. Refused: non-finite or zero angle_increment,
 // angles spanning more than a turn, range limits not 0 <= range_min < range_max (finite), and a
-// scan without a return.
+// scan without a return. A finite, non-zero time_increment stamps each point with its beam's
+// time (header stamp + i time_increment; scan.point_stamps) for the de-skew.
 bool toSensorScan(const sensor_msgs::LaserScan& scan, const NodeConfig& cfg, SensorScan* out,
                   std::string* error);
 
