@@ -478,8 +478,14 @@ TEST(CoralCheckLoopClosure, AcesRelationMovedTwoTolerancesIsRejectedByTheRestart
   ASSERT_TRUE(aces.node.online.verdict.loop_closure.coarse_registration);
   const std::string config = lidar2dWithoutLoopRegistration();
   ASSERT_FALSE(config.empty()) << "lidar_2d.yaml has no loop_closure/coarse_registration: true";
-  coral_introspection::online::IntrospectorConfig without = aces.loop;
-  without.verdict.gate.coarse_registration = false;
+  // The in-process verdict read from the same file coral_check is given.
+  coral_introspection::ros_adapters::NodeConfig node;
+  coral_introspection::coral::VerdictConfig unused;
+  std::string err;
+  ASSERT_TRUE(coral_introspection::ros_eval::loadPresetFile(config, &node, &unused, &err)) << err;
+  coral_introspection::online::IntrospectorConfig without = node.online;
+  without.verdict = loopClosureVerdict(node.online.verdict);
+  ASSERT_FALSE(without.verdict.gate.coarse_registration);
   const double two_tol = 2.0 * aces.node.online.verdict.tolerance.translation;
   // Chosen by the code under test (test_loop_closure counts 1 such relation of 220 x 4 moves).
   const MovedRelation m = findMovedRelation(
