@@ -6,7 +6,7 @@ namespace coral_introspection {
 namespace ros_eval {
 
 namespace {
-bool aligned(const online::PairJudgement& j) { return j.verdict.valid && j.verdict.aligned; }
+bool aligned(const coral::AlignmentVerdict& v) { return v.valid && v.aligned; }
 }  // namespace
 
 bool lowerMinimumNearby(const coral::AlignmentVerdict& v, const coral::VerdictConfig& cfg) {
@@ -25,14 +25,16 @@ eval::LoopDecision streamVerdictDecision(const std::vector<eval::TrainingScan>& 
   return [&scans, cfg](const eval::LoopCandidate& c, Eigen::Isometry3d* T_edge) {
     const online::PairJudgement j =
         online::judgePair(scans[c.a].scan, scans[c.b].scan, c.T_a_b, cfg, false);
-    if (aligned(j)) return true;
+    if (aligned(j.verdict)) return true;
     // The pose the verdict's registration reached is the front end's second try (its own ICP
     // stopped short of it), kept when the verdict accepts it there: on the ACES log the
     // scan-matched odometry's relation error falls 0.417 -> 0.236 m, every such step with an
     // exact ground truth within half a tolerance of it (doc/loop_closure.md).
     if (!lowerMinimumNearby(j.verdict, cfg.verdict)) return false;
+    // Judged on the pair the first verdict prepared (judgePair's own second step), not
+    // prepared again.
     const Eigen::Isometry3d T = c.T_a_b * j.verdict.coarse.lowest.delta;
-    if (!aligned(online::judgePair(scans[c.a].scan, scans[c.b].scan, T, cfg, false))) return false;
+    if (!j.prepared || !aligned(coral::judgeAlignment(*j.prepared, T, cfg.verdict))) return false;
     if (T_edge) *T_edge = T;
     return true;
   };
